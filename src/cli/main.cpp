@@ -1,0 +1,38 @@
+// radbake: the command-line program. Subcommands live in cmd_<name>.cpp.
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.h"
+
+namespace radbake::cli {
+
+void printDiagnosticsToStderr(Diagnostics& diagnostics) {
+    diagnostics.sink = [](const Diagnostic& d) { std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str()); };
+}
+
+}  // namespace radbake::cli
+
+int main(int argc, char** argv) {
+    using namespace radbake::cli;
+    CLI::App app{"radbake " RADBAKE_VERSION ": offline hierarchical-radiosity lighting baker"};
+    app.set_version_flag("--version", std::string("radbake ") + RADBAKE_VERSION);
+    app.require_subcommand(1);
+    app.get_formatter()->column_width(40);
+
+    int result = kExitOk;
+    addInfoCommand(app, result);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return kExitUsage;
+    }
+    return result;
+}

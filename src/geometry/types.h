@@ -1,0 +1,52 @@
+#pragma once
+// Plain geometric structs shared by parts, shafts and the solver. Positions are float as
+// stored in the Scene; planes and tests are evaluated in double so that conservative tests
+// can bound their own rounding.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "core/math.h"
+
+namespace radbake {
+
+struct Aabb {
+    DVec3 min{std::numeric_limits<double>::max()};
+    DVec3 max{-std::numeric_limits<double>::max()};
+
+    bool empty() const { return min.x > max.x; }
+    void add(const DVec3& p) { min = glm::min(min, p); max = glm::max(max, p); }
+    void add(const Aabb& b) { min = glm::min(min, b.min); max = glm::max(max, b.max); }
+    DVec3 center() const { return 0.5 * (min + max); }
+    DVec3 extent() const { return max - min; }
+};
+
+// Oriented box: center + sum_i t_i * axes[i] * half_extents[i], t_i in [-1, 1].
+// axes are orthonormal; a flat box has one half_extent of 0.
+struct Obb {
+    DVec3 center{0.0};
+    std::array<DVec3, 3> axes{DVec3(1, 0, 0), DVec3(0, 1, 0), DVec3(0, 0, 1)};
+    DVec3 half_extents{0.0};
+};
+
+// Points p with dot(normal, p) + offset <= 0 are inside; normal points out and is unit length.
+struct Plane {
+    DVec3 normal{0.0, 0.0, 1.0};
+    double offset = 0.0;
+    double eval(const DVec3& p) const { return glm::dot(normal, p) + offset; }
+};
+
+// A convex piece of the scene's geometry: a closed convex polytope (closed == true), or a
+// flat convex polygon (closed == false, vertices in order around its normal).
+struct ConvexPart {
+    std::vector<DVec3> vertices;  // hull vertices (closed) or polygon loop (flat)
+    std::vector<Plane> planes;    // closed: outward face planes; flat: the supporting plane
+    bool closed = false;
+    Aabb aabb;
+    Obb obb;
+    uint32_t mesh = 0;            // Scene::meshes index it came from
+    std::vector<uint32_t> polygons;  // source polygons of that mesh it covers
+};
+
+}  // namespace radbake

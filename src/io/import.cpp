@@ -1,0 +1,73 @@
+#include "io/import.h"
+
+#include <filesystem>
+#include <cstring>
+#include <fstream>
+
+#include "io/assimp/assimp_reader.h"
+#include "io/vrml/vrml_reader.h"
+#include "scene/validate.h"
+
+namespace radbake {
+namespace {
+
+// Units and emission are applied once here, so every reader works in its file's own units.
+void applyScales(Scene& scene, const ImportOptions& options) {
+    const float s = options.unit_scale;
+    if (s != 1.0f) {
+        for (Mesh& mesh : scene.meshes)
+            for (Vec3& p : mesh.positions) p *= s;
+        for (Light& light : scene.lights) {
+            light.position *= s;
+            if (light.type != LightType::Directional) light.radius *= s;
+        }
+        for (Camera& camera : scene.cameras) camera.position *= s;
+    }
+    if (options.emission_scale != 1.0f)
+        for (Material& material : scene.materials) material.emission *= options.emission_scale;
+}
+
+std::string firstBytes(const std::string& path, size_t count) {
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes(count, '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(count));
+    bytes.resize(static_cast<size_t>(in.gcount()));
+    return bytes;
+}
+
+}  // namespace
+
+std::optional<Scene> importScene(const std::string& path, const ImportOptions& options,
+                                 Diagnostics& diagnostics) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        diagnostics.error({path, 0, 0}, "cannot open scene file (no such regular file)");
+        return std::nullopt;
+    }
+    if (!(options.unit_scale > 0.0f) || !std::isfinite(options.unit_scale)) {
+        diagnostics.error({}, "--unit-scale must be a positive finite number");
+        return std::nullopt;
+    }
+    if (!(options.emission_scale >= 0.0f) || !std::isfinite(options.emission_scale)) {
+        diagnostics.error({}, "--emission-scale must be a non-negative finite number");
+        return std::nullopt;
+    }
+
+    Scene scene;
+    scene.source_path = path;
+    std::string stem = std::filesystem::path(path).filename().string();
+    for (const char* suffix : {".gz", ".wrl", ".WRL", ".vrml"})
+        if (stem.size() > std::strlen(suffix) && stem.ends_with(suffix)) stem.resize(stem.size() - std::strlen(suffix));
+    scene.name = std::filesystem::path(stem).stem().string();
+    if (scene.name.empty()) scene.name = "scene";
+
+    const bool ok = looksLikeVrml(firstBytes(path, 16))
+                        ? readVrml(path, VrmlOptions{options.strict}, scene, diagnostics)
+                        : readWithAssimp(path, scene, diagnostics);
+    if (!ok || diagnostics.hasErrors()) return std::nullopt;
+    applyScales(scene, options);
+    if (!validateScene(scene, diagnostics)) return std::nullopt;
+    return scene;
+}
+
+}  // namespace radbake

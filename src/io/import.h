@@ -1,0 +1,21 @@
+#pragma once
+// The import stage: any supported scene file -> one validated Scene.
+#include <optional>
+#include <string>
+
+#include "scene/scene.h"
+
+namespace radbake {
+
+struct ImportOptions {
+    float unit_scale = 1.0f;      // scene units -> metres
+    float emission_scale = 1.0f;  // multiplies every emitted radiance
+    bool strict = false;          // unknown nodes and fields are errors, not warnings
+};
+
+// Reads VRML97 / VRML 1.0 with our own reader (also gzipped) and everything else through
+// Assimp, then validates. Returns nullopt after reporting at least one located error.
+std::optional<Scene> importScene(const std::string& path, const ImportOptions& options,
+                                 Diagnostics& diagnostics);
+
+}  // namespace radbake

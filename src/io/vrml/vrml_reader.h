@@ -1,0 +1,36 @@
+#pragma once
+// Our own reader for VRML97 (classic encoding) and VRML 1.0, gzipped or not.
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "scene/scene.h"
+
+namespace radbake {
+
+struct VrmlOptions {
+    bool strict = false;  // unknown nodes and fields are errors
+};
+
+// True when the bytes begin like a VRML file ("#VRML") or a gzip stream.
+bool looksLikeVrml(std::string_view first_bytes);
+
+// Reads the file (VRML97 or VRML 1.0, told apart by its header line) and appends its meshes,
+// materials, lights and cameras to `scene`. False after reporting at least one located error.
+bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene,
+              Diagnostics& diagnostics);
+
+namespace vrml {
+
+// Reads a file, gunzipping it when it starts with the gzip magic. Reports a located error
+// (at `from`, e.g. the Inline that asked for it) and returns nullopt when it cannot.
+std::optional<std::string> loadText(const std::string& path, const SourceLocation& from,
+                                    Diagnostics& diagnostics);
+
+// Resolves a relative URL against the directory of `base_file`; falls back to a
+// case-insensitive match of each path component when the exact name does not exist.
+// Returns nullopt for URLs that are not local files (http:, urn:, ...).
+std::optional<std::string> resolveUrl(const std::string& base_file, const std::string& url);
+
+}  // namespace vrml
+}  // namespace radbake

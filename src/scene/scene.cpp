@@ -1,0 +1,36 @@
+#include "scene/scene.h"
+
+#include <limits>
+
+namespace radbake {
+
+double triangleArea(const Mesh& mesh, size_t triangle) {
+    const UVec3& t = mesh.triangles[triangle];
+    const DVec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+SceneSummary summarize(const Scene& scene) {
+    SceneSummary summary;
+    summary.materials = scene.materials.size();
+    summary.lights = scene.lights.size();
+    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Mesh& mesh : scene.meshes) {
+        summary.triangles += mesh.triangles.size();
+        summary.polygons += mesh.polygon_count;
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) summary.area += triangleArea(mesh, t);
+        for (const Vec3& p : mesh.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        if (mesh.material < scene.materials.size() && scene.materials[mesh.material].isEmitter())
+            summary.emitters += mesh.polygon_count;
+    }
+    if (lo.x <= hi.x) {
+        summary.bounds_min = lo;
+        summary.bounds_max = hi;
+    }
+    return summary;
+}
+
+}  // namespace radbake

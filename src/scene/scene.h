@@ -1,0 +1,95 @@
+#pragma once
+// The one in-memory scene every reader produces and every later stage reads.
+// Everything is in world space, in metres (after --unit-scale), with radiometric
+// quantities as DESIGN.md section 2 defines them.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/math.h"
+
+namespace radbake {
+
+struct Material {
+    std::string name;
+    Vec3 reflectance{0.8f};  // diffuse rho per channel, in [0, 1)
+    Vec3 emission{0.0f};     // emitted radiance L_e, W sr^-1 m^-2 (times --emission-scale)
+    float ambient_intensity = 0.2f;
+    float transparency = 0.0f;
+    std::string texture;  // noted, not used
+    SourceLocation location;
+
+    bool isEmitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+};
+
+// A triangle mesh with one material. Triangles remember the source polygon they came from
+// (convex source polygons are the natural radiosity patches): triangle_polygon[t] is the
+// index of t's polygon, polygons are numbered 0..polygon_count-1 and a polygon's triangles
+// are contiguous.
+struct Mesh {
+    std::string name;
+    std::vector<Vec3> positions;         // world space
+    std::vector<Vec3> normals;           // per vertex, world space; empty when not given
+    std::vector<Vec3> vertex_colors;     // per vertex; empty when not given
+    std::vector<Vec3> polygon_colors;    // per polygon; empty when not given
+    std::vector<UVec3> triangles;        // counter-clockwise seen from the front
+    std::vector<uint32_t> triangle_polygon;
+    uint32_t polygon_count = 0;
+    uint32_t material = 0;               // index into Scene::materials
+    bool solid = true;                   // VRML `solid`: back faces may be culled
+    float crease_angle = 0.0f;           // radians, for vertex normals
+    bool convex_solid = false;           // the reader knows this is one closed convex solid (Box, Cylinder, ...)
+    SourceLocation location;             // the node that made it
+};
+
+enum class LightType { Point, Spot, Directional };
+
+struct Light {
+    LightType type = LightType::Point;
+    Vec3 position{0.0f};   // world; unused for Directional
+    Vec3 direction{0.0f, 0.0f, -1.0f};  // world, unit; unused for Point
+    Vec3 color{1.0f};
+    float intensity = 1.0f;
+    float ambient_intensity = 0.0f;
+    Vec3 attenuation{1.0f, 0.0f, 0.0f};  // constant, linear, quadratic
+    float radius = 100.0f;               // world units; infinite for Directional
+    float beam_width = 1.570796f;        // radians (Spot)
+    float cut_off_angle = 0.785398f;     // radians (Spot)
+    bool on = true;
+    SourceLocation location;
+};
+
+struct Camera {
+    std::string name;
+    Vec3 position{0.0f, 0.0f, 10.0f};
+    Quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  // rotates the default view (looking down -Z, +Y up)
+    float field_of_view = 0.785398f;           // radians, the smaller of the two view angles
+    SourceLocation location;
+};
+
+struct Scene {
+    std::string name;         // file stem, used for output names
+    std::string source_path;  // as given
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<Light> lights;
+    std::vector<Camera> cameras;
+};
+
+// Summary figures used by `radbake info` and by later stages.
+struct SceneSummary {
+    size_t triangles = 0;
+    size_t polygons = 0;
+    double area = 0.0;  // total one-sided area
+    Vec3 bounds_min{0.0f};
+    Vec3 bounds_max{0.0f};
+    size_t materials = 0;
+    size_t emitters = 0;  // emissive polygons
+    size_t lights = 0;
+};
+
+double triangleArea(const Mesh& mesh, size_t triangle);
+SceneSummary summarize(const Scene& scene);
+
+}  // namespace radbake

@@ -1,0 +1,1 @@
+// Stage placeholder until the stage's first source lands.

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Sets up, builds, and runs radbake's main job on the bundled default scene.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/setup.sh
+bash tools/build.sh
+./build/src/radbake info scenes/cornell_box.wrl
