@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -31,6 +32,13 @@ std::optional<std::string> loadText(const std::string& path, const SourceLocatio
 // case-insensitive match of each path component when the exact name does not exist.
 // Returns nullopt for URLs that are not local files (http:, urn:, ...).
 std::optional<std::string> resolveUrl(const std::string& base_file, const std::string& url);
+
+// Reads one file's text as VRML97 or VRML 1.0, as its header line says, appending to `scene`
+// in this file's own coordinates. `inline_stack` holds the files being read (recursion guard).
+// An Inline/WWWInline reader calls this and then transforms what was appended (meshes, lights,
+// cameras from the sizes it noted before) by its current matrix.
+bool readText(std::string_view text, const std::string& path, const VrmlOptions& options,
+              std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics);
 
 }  // namespace vrml
 }  // namespace radbake

@@ -1,0 +1,20 @@
+#pragma once
+// Per-vertex baked light. CONTRACT between the solver side and the exporters.
+#include <vector>
+
+#include "core/math.h"
+
+namespace radbake {
+
+struct Scene;
+struct Solution;
+
+// values[m][v]: the baked quantity at vertex v of Scene::meshes[m]; by default H / pi
+// (DESIGN.md section 2), linear, may exceed 1.
+struct VertexBake {
+    std::vector<std::vector<Vec3>> values;
+};
+
+VertexBake bakeVertices(const Scene& scene, const Solution& solution);
+
+}  // namespace radbake
