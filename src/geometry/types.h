@@ -23,7 +23,8 @@ struct Aabb {
 };
 
 // Oriented box: center + sum_i t_i * axes[i] * half_extents[i], t_i in [-1, 1].
-// axes are orthonormal; a flat box has one half_extent of 0.
+// axes are orthonormal and right-handed; a flat part's box has half_extents.z == 0 and
+// axes[2] == its polygon's normal.
 struct Obb {
     DVec3 center{0.0};
     std::array<DVec3, 3> axes{DVec3(1, 0, 0), DVec3(0, 1, 0), DVec3(0, 0, 1)};
@@ -42,7 +43,12 @@ struct Plane {
 struct ConvexPart {
     std::vector<DVec3> vertices;  // hull vertices (closed) or polygon loop (flat)
     std::vector<Plane> planes;    // closed: outward face planes; flat: the supporting plane
+    // closed: faces[i] is the loop of plane i (indices into vertices, counter-clockwise seen
+    // from outside); flat: empty (the loop is `vertices` itself, around planes[0].normal).
+    std::vector<std::vector<uint32_t>> faces;
     bool closed = false;
+    double area = 0.0;    // flat: polygon area; closed: surface area
+    double volume = 0.0;  // closed: hull volume; flat: 0
     Aabb aabb;
     Obb obb;
     uint32_t mesh = 0;            // Scene::meshes index it came from
