@@ -1,0 +1,516 @@
+// The Embree boundary: the only file in the project that includes Embree. Everything Embree
+// reports goes to Diagnostics; nothing thrown here leaves this file.
+#include "visibility/ray_caster.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numeric>
+#include <string>
+
+namespace radbake {
+
+namespace {
+
+// Frame. Embree works in float; a scene far from the origin (georeferenced or CAD
+// coordinates) would lose its float precision there. So Embree gets the geometry translated
+// to the scene's bounding-box centre (computed in double from the stored floats, so nothing
+// is lost), and every ray is translated the same way before it is rounded to float: rounding
+// errors are then relative to the scene's extent, not to its distance from the origin.
+//
+// End offset, relative to the scene's extent (bounding-box diagonal D). In the centred frame
+// coordinates are at most D/2, whose float spacing is 2^-24 D ~ 6e-8 D; a point that lies
+// exactly on a surface comes out within a few such ulps of it after the rounding of the ray
+// origin, and Embree's float intersection adds a few more. 1e-5 D is ~170 of those ulps:
+// above that noise, and far below any feature a lighting bake resolves. (At grazing
+// incidence, angle a to the surface, the offset along the ray keeps only 1e-5 D sin(a) from
+// the surface, so an end point's own surface can still be hit below a ~ 0.3 degrees: the
+// usual, accepted limit.)
+constexpr double kRelativeEpsilon = 1e-5;
+// Floor for a degenerate (empty or point-sized) scene, where any size-scaled value is 0.
+constexpr double kMinEpsilon = 1e-30;
+
+struct MeshCopy {
+    std::vector<DVec3> positions;     // double copies for the exact candidate test
+    std::vector<UVec3> triangles;     // as in the Scene
+    std::vector<uint8_t> valid;       // triangle usable (indices in range, finite vertices)
+    std::vector<uint32_t> polygon_start;  // CSR: triangles of polygon p are
+    std::vector<uint32_t> polygon_triangles;  // polygon_triangles[polygon_start[p] .. polygon_start[p+1])
+};
+
+// A candidate triangle ready for the exact test: corner a and the two edges from it.
+struct PreparedTriangle {
+    DVec3 a, e1, e2;
+};
+
+}  // namespace
+
+struct RayCaster::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<MeshCopy> meshes;
+    size_t triangle_count = 0;
+    Aabb bounds;
+    DVec3 origin{0.0};  // Embree's frame: world minus origin (the bounds' centre)
+    double extent = 0.0;
+    double epsilon = kMinEpsilon;
+
+    // Errors Embree raises. During build they are collected and moved to Diagnostics; after
+    // build (queries on many threads) they are counted and kept for reportLateErrors().
+    mutable std::mutex error_mutex;
+    mutable std::vector<std::string> errors;
+    mutable std::atomic<size_t> late_error_count{0};
+    bool building = true;
+
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+
+    void recordError(RTCError code, const char* text) {
+        std::string message = "Embree error " + std::to_string(static_cast<int>(code));
+        if (text && *text) message += std::string(": ") + text;
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!building) late_error_count.fetch_add(1, std::memory_order_relaxed);
+        errors.push_back(std::move(message));
+    }
+
+    bool occluded(const DVec3& from, const DVec3& to) const;
+    // Number of unblocked segments from[k] -> to[pairedIndex(k)], cast in packets of 8.
+    size_t countOpenPaired(const std::vector<DVec3>& from, const std::vector<DVec3>& to, size_t n) const;
+    // The usable candidates, gathered once per query so the per-segment loop is contiguous.
+    std::vector<PreparedTriangle> prepare(std::span<const TriangleRef> candidates) const;
+    bool occludedAmong(const DVec3& from, const DVec3& to, std::span<const PreparedTriangle> triangles) const;
+};
+
+namespace {
+
+void embreeErrorCallback(void* user, RTCError code, const char* text) {
+    static_cast<RayCaster::Impl*>(user)->recordError(code, text);
+}
+
+bool usableTriangle(const Mesh& mesh, const UVec3& t) {
+    const size_t n = mesh.positions.size();
+    if (t.x >= n || t.y >= n || t.z >= n) return false;
+    return isFinite(mesh.positions[t.x]) && isFinite(mesh.positions[t.y]) && isFinite(mesh.positions[t.z]);
+}
+
+// Copies a mesh for the exact test and indexes its polygons' triangles (CSR), without
+// trusting triangle_polygon to be contiguous or complete.
+MeshCopy copyMesh(const Mesh& mesh, size_t& skipped) {
+    MeshCopy copy;
+    copy.positions.assign(mesh.positions.begin(), mesh.positions.end());
+    copy.triangles = mesh.triangles;
+    copy.valid.resize(mesh.triangles.size());
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        copy.valid[t] = usableTriangle(mesh, mesh.triangles[t]) ? 1 : 0;
+        if (!copy.valid[t]) ++skipped;
+    }
+    const bool has_polygons = mesh.triangle_polygon.size() == mesh.triangles.size();
+    const uint32_t polygon_count = has_polygons ? mesh.polygon_count : 0;
+    copy.polygon_start.assign(polygon_count + 1, 0);
+    if (has_polygons) {
+        for (uint32_t p : mesh.triangle_polygon)
+            if (p < polygon_count) ++copy.polygon_start[p + 1];
+        std::partial_sum(copy.polygon_start.begin(), copy.polygon_start.end(), copy.polygon_start.begin());
+        copy.polygon_triangles.resize(copy.polygon_start.back());
+        std::vector<uint32_t> fill(copy.polygon_start.begin(), copy.polygon_start.end() - 1);
+        for (uint32_t t = 0; t < mesh.triangle_polygon.size(); ++t) {
+            const uint32_t p = mesh.triangle_polygon[t];
+            if (p < polygon_count) copy.polygon_triangles[fill[p]++] = t;
+        }
+    }
+    return copy;
+}
+
+// Exact segment/triangle test in double (Moller-Trumbore), hits with t in (t_min, t_max)
+// along a unit direction. Both faces count: visibility ignores orientation.
+bool segmentHitsTriangle(const DVec3& origin, const DVec3& direction, double t_min, double t_max,
+                         const PreparedTriangle& triangle) {
+    const DVec3& a = triangle.a;
+    const DVec3& e1 = triangle.e1;
+    const DVec3& e2 = triangle.e2;
+    const DVec3 p = glm::cross(direction, e2);
+    const double det = glm::dot(e1, p);
+    if (det == 0.0 || !std::isfinite(det)) return false;  // parallel or degenerate
+    const double inv_det = 1.0 / det;
+    const DVec3 s = origin - a;
+    const double u = glm::dot(s, p) * inv_det;
+    if (u < 0.0 || u > 1.0) return false;
+    const DVec3 q = glm::cross(s, e1);
+    const double v = glm::dot(direction, q) * inv_det;
+    if (v < 0.0 || u + v > 1.0) return false;
+    const double t = glm::dot(e2, q) * inv_det;
+    return t > t_min && t < t_max;
+}
+
+// Maps a point (u, v) of the unit square onto a triangle, preserving area (so equal strata of
+// the square become equal-area strata of the triangle).
+DVec3 squareToTriangle(double u, double v, const DVec3& a, const DVec3& b, const DVec3& c) {
+    const double s = std::sqrt(u);
+    return (1.0 - s) * a + s * (1.0 - v) * b + s * v * c;
+}
+
+// The receiver stratum joined to source stratum (i, j) of an n x n grid:
+// (i + j, i + 2j) mod n. A bijection (determinant 1), so every receiver point is used exactly
+// once; and for fixed i or fixed j each receiver coordinate is itself a permutation, so the
+// projections (u_s, u_r), (v_s, u_r) and (v_s, v_r) are full n x n grids: an occluder edge
+// parallel to either quad edge sees stratified, not random, pairs. For odd n the remaining
+// projection (u_s, v_r) is a full grid too (orthogonal Latin squares); for even n it covers
+// every other stratum.
+size_t pairedIndex(size_t k, size_t n) {
+    const size_t i = k / n, j = k % n;
+    return ((i + j) % n) * n + (i + 2 * j) % n;
+}
+
+}  // namespace
+
+size_t pairedSampleIndex(size_t k, int samples_per_side) {
+    return pairedIndex(k, static_cast<size_t>(std::max(samples_per_side, 1)));
+}
+
+std::vector<DVec3> stratifiedPolygonPoints(std::span<const DVec3> polygon, int samples_per_side) {
+    const int n = std::max(samples_per_side, 1);
+    std::vector<DVec3> points;
+    points.reserve(static_cast<size_t>(n) * n);
+    if (polygon.empty()) return points;
+    const size_t m = polygon.size();
+    // Fan triangles' cumulative areas for the general (and triangle) case.
+    std::vector<double> cumulative;
+    if (m != 4 && m >= 3) {
+        cumulative.reserve(m - 2);
+        double total = 0.0;
+        for (size_t i = 1; i + 1 < m; ++i) {
+            total += 0.5 * glm::length(glm::cross(polygon[i] - polygon[0], polygon[i + 1] - polygon[0]));
+            cumulative.push_back(total);
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        const double u = (i + 0.5) / n;
+        for (int j = 0; j < n; ++j) {
+            const double v = (j + 0.5) / n;
+            if (m == 1) {
+                points.push_back(polygon[0]);
+            } else if (m == 2) {
+                points.push_back(polygon[0] + u * (polygon[1] - polygon[0]));
+            } else if (m == 4) {  // bilinear: strata follow the quad's edges
+                points.push_back((1 - u) * (1 - v) * polygon[0] + u * (1 - v) * polygon[1] + u * v * polygon[2] +
+                                 (1 - u) * v * polygon[3]);
+            } else {
+                const double total = cumulative.back();
+                if (!(total > 0.0)) {  // degenerate polygon: fall back to its first edge
+                    points.push_back(polygon[0] + u * (polygon[1] - polygon[0]));
+                    continue;
+                }
+                const double target = u * total;
+                size_t t = std::lower_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin();
+                t = std::min(t, cumulative.size() - 1);
+                const double before = t == 0 ? 0.0 : cumulative[t - 1];
+                const double area = cumulative[t] - before;
+                const double local_u = area > 0.0 ? std::clamp((target - before) / area, 0.0, 1.0) : 0.5;
+                points.push_back(squareToTriangle(local_u, v, polygon[0], polygon[t + 1], polygon[t + 2]));
+            }
+        }
+    }
+    return points;
+}
+
+bool RayCaster::Impl::occluded(const DVec3& from, const DVec3& to) const {
+    const DVec3 delta = to - from;
+    const double length = glm::length(delta);
+    if (!(length > 2.0 * epsilon) || !std::isfinite(length)) return false;
+    const DVec3 direction = delta / length;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray{};
+    const DVec3 from_local = from - origin;
+    ray.org_x = static_cast<float>(from_local.x);
+    ray.org_y = static_cast<float>(from_local.y);
+    ray.org_z = static_cast<float>(from_local.z);
+    ray.dir_x = static_cast<float>(direction.x);
+    ray.dir_y = static_cast<float>(direction.y);
+    ray.dir_z = static_cast<float>(direction.z);
+    ray.tnear = static_cast<float>(epsilon);
+    ray.tfar = static_cast<float>(length - epsilon);
+    ray.mask = 0xFFFFFFFFu;
+    ray.flags = 0;
+    ray.time = 0.0f;
+    rtcOccluded1(scene, &context, &ray);
+    return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+size_t RayCaster::Impl::countOpenPaired(const std::vector<DVec3>& from, const std::vector<DVec3>& to,
+                                        size_t n) const {
+    constexpr size_t kLanes = 8;
+    // The segments of one element pair are coherent (they join two small polygons).
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    size_t open = 0;
+    for (size_t first = 0; first < from.size(); first += kLanes) {
+        RTCRay8 packet;
+        alignas(32) int valid[kLanes];
+        for (size_t lane = 0; lane < kLanes; ++lane) {
+            const size_t k = first + lane;
+            valid[lane] = 0;
+            packet.org_x[lane] = packet.org_y[lane] = packet.org_z[lane] = 0.0f;
+            packet.dir_x[lane] = packet.dir_y[lane] = 0.0f;
+            packet.dir_z[lane] = 1.0f;
+            packet.tnear[lane] = 0.0f;
+            packet.tfar[lane] = 0.0f;
+            packet.time[lane] = 0.0f;
+            packet.mask[lane] = 0xFFFFFFFFu;
+            packet.id[lane] = static_cast<unsigned>(lane);
+            packet.flags[lane] = 0;
+            if (k >= from.size()) continue;
+            const DVec3 a = from[k] - origin;
+            const DVec3 delta = to[pairedIndex(k, n)] - from[k];
+            const double length = glm::length(delta);
+            // Same rules as occluded(): too short (or not finite) counts as open.
+            if (!(length > 2.0 * epsilon) || !std::isfinite(length)) {
+                ++open;
+                continue;
+            }
+            const DVec3 direction = delta / length;
+            valid[lane] = -1;
+            packet.org_x[lane] = static_cast<float>(a.x);
+            packet.org_y[lane] = static_cast<float>(a.y);
+            packet.org_z[lane] = static_cast<float>(a.z);
+            packet.dir_x[lane] = static_cast<float>(direction.x);
+            packet.dir_y[lane] = static_cast<float>(direction.y);
+            packet.dir_z[lane] = static_cast<float>(direction.z);
+            packet.tnear[lane] = static_cast<float>(epsilon);
+            packet.tfar[lane] = static_cast<float>(length - epsilon);
+        }
+        rtcOccluded8(valid, scene, &context, &packet);
+        for (size_t lane = 0; lane < kLanes; ++lane)
+            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity()) ++open;
+    }
+    return open;
+}
+
+std::vector<PreparedTriangle> RayCaster::Impl::prepare(std::span<const TriangleRef> candidates) const {
+    std::vector<PreparedTriangle> out;
+    out.reserve(candidates.size());
+    for (const TriangleRef& ref : candidates) {
+        if (ref.mesh >= meshes.size()) continue;
+        const MeshCopy& mesh = meshes[ref.mesh];
+        if (ref.triangle >= mesh.triangles.size() || !mesh.valid[ref.triangle]) continue;
+        const UVec3 t = mesh.triangles[ref.triangle];
+        const DVec3& a = mesh.positions[t.x];
+        out.push_back({a, mesh.positions[t.y] - a, mesh.positions[t.z] - a});
+    }
+    return out;
+}
+
+bool RayCaster::Impl::occludedAmong(const DVec3& from, const DVec3& to,
+                                    std::span<const PreparedTriangle> triangles) const {
+    const DVec3 delta = to - from;
+    const double length = glm::length(delta);
+    if (!(length > 2.0 * epsilon) || !std::isfinite(length)) return false;
+    const DVec3 direction = delta / length;
+    for (const PreparedTriangle& triangle : triangles)
+        if (segmentHitsTriangle(from, direction, epsilon, length - epsilon, triangle)) return true;
+    return false;
+}
+
+namespace {
+
+constexpr size_t kAttachFailed = static_cast<size_t>(-1);
+
+// Gives Embree the usable triangles of one mesh, in the centred frame. Returns how many, or
+// kAttachFailed (Embree has then reported why through the error callback).
+size_t attachMesh(RayCaster::Impl& impl, const MeshCopy& copy, uint32_t geometry_id) {
+    size_t valid_count = 0;
+    for (uint8_t valid : copy.valid) valid_count += valid;
+    if (valid_count == 0) return 0;
+    RTCGeometry geometry = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (!geometry) return kAttachFailed;
+    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), copy.positions.size()));
+    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), valid_count));
+    if (!vertices || !indices) {
+        rtcReleaseGeometry(geometry);
+        return kAttachFailed;
+    }
+    for (size_t v = 0; v < copy.positions.size(); ++v) {
+        // Non-finite vertices are only referenced by skipped triangles; zero them so Embree
+        // never sees them.
+        const DVec3& p = copy.positions[v];
+        const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+        const DVec3 local = finite ? p - impl.origin : DVec3(0.0);
+        vertices[3 * v + 0] = static_cast<float>(local.x);
+        vertices[3 * v + 1] = static_cast<float>(local.y);
+        vertices[3 * v + 2] = static_cast<float>(local.z);
+    }
+    size_t written = 0;
+    for (size_t t = 0; t < copy.triangles.size(); ++t) {
+        if (!copy.valid[t]) continue;
+        indices[3 * written + 0] = copy.triangles[t].x;
+        indices[3 * written + 1] = copy.triangles[t].y;
+        indices[3 * written + 2] = copy.triangles[t].z;
+        ++written;
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(impl.scene, geometry, geometry_id);
+    rtcReleaseGeometry(geometry);
+    return valid_count;
+}
+
+}  // namespace
+
+RayCaster::RayCaster(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+RayCaster::~RayCaster() = default;
+
+std::unique_ptr<RayCaster> RayCaster::build(const Scene& scene, Diagnostics& diagnostics, int threads) {
+    const SourceLocation where{scene.source_path, 0, 0};
+    try {
+        auto impl = std::make_unique<Impl>();
+        Impl* raw = impl.get();
+        auto flushErrors = [&]() {
+            std::lock_guard<std::mutex> lock(raw->error_mutex);
+            for (std::string& message : raw->errors) diagnostics.error(where, "ray caster: " + message);
+            const bool had = !raw->errors.empty();
+            raw->errors.clear();
+            return had;
+        };
+
+        const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
+        impl->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
+        if (!impl->device) {
+            diagnostics.error(where, "ray caster: Embree device creation failed (error " +
+                                         std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+            return nullptr;
+        }
+        rtcSetDeviceErrorFunction(impl->device, embreeErrorCallback, raw);
+        impl->scene = rtcNewScene(impl->device);
+        if (!impl->scene) {
+            flushErrors();
+            diagnostics.error(where, "ray caster: Embree scene creation failed");
+            return nullptr;
+        }
+        // Robust traversal (no missed hits on shared edges) and the best BVH: the structure is
+        // built once per bake and queried millions of times.
+        rtcSetSceneFlags(impl->scene, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
+
+        // Pass 1: copies, usable triangles, bounds (which fix Embree's frame).
+        size_t skipped = 0;
+        Aabb bounds;
+        impl->meshes.reserve(scene.meshes.size());
+        for (const Mesh& mesh : scene.meshes) {
+            impl->meshes.push_back(copyMesh(mesh, skipped));
+            const MeshCopy& copy = impl->meshes.back();
+            for (size_t t = 0; t < copy.triangles.size(); ++t)
+                if (copy.valid[t])
+                    for (int k = 0; k < 3; ++k) bounds.add(copy.positions[copy.triangles[t][k]]);
+        }
+        impl->bounds = bounds;
+        impl->origin = bounds.empty() ? DVec3(0.0) : bounds.center();
+        impl->extent = bounds.empty() ? 0.0 : glm::length(bounds.extent());
+        impl->epsilon = std::max(kMinEpsilon, kRelativeEpsilon * impl->extent);
+
+        // Pass 2: one Embree geometry per mesh, geometry id = mesh index.
+        for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+            const size_t added = attachMesh(*impl, impl->meshes[m], m);
+            if (added == kAttachFailed) {
+                flushErrors();
+                diagnostics.error(where, "ray caster: Embree could not take mesh '" + scene.meshes[m].name + "'");
+                return nullptr;
+            }
+            impl->triangle_count += added;
+        }
+        if (skipped > 0)
+            diagnostics.warning(where, "ray caster: skipped " + std::to_string(skipped) +
+                                           " triangle(s) with out-of-range indices or non-finite vertices");
+        rtcCommitScene(impl->scene);
+        if (flushErrors()) return nullptr;
+
+        {
+            std::lock_guard<std::mutex> lock(impl->error_mutex);
+            impl->building = false;
+        }
+        return std::unique_ptr<RayCaster>(new RayCaster(std::move(impl)));
+    } catch (const std::exception& e) {
+        diagnostics.error(where, std::string("ray caster: ") + e.what());
+    } catch (...) {
+        diagnostics.error(where, "ray caster: unknown failure while building");
+    }
+    return nullptr;
+}
+
+double RayCaster::sceneExtent() const { return impl_->extent; }
+Aabb RayCaster::sceneBounds() const { return impl_->bounds; }
+double RayCaster::epsilon() const { return impl_->epsilon; }
+size_t RayCaster::triangleCount() const { return impl_->triangle_count; }
+
+bool RayCaster::segmentBlocked(const DVec3& from, const DVec3& to) const { return impl_->occluded(from, to); }
+
+bool RayCaster::segmentBlockedAmong(const DVec3& from, const DVec3& to,
+                                    std::span<const TriangleRef> candidates) const {
+    return impl_->occludedAmong(from, to, impl_->prepare(candidates));
+}
+
+namespace {
+
+template <class Blocked>
+double sampledFraction(std::span<const DVec3> source, std::span<const DVec3> receiver, int samples_per_side,
+                       size_t* rays_cast, Blocked&& blocked) {
+    if (source.empty() || receiver.empty()) return 0.0;
+    const std::vector<DVec3> from = stratifiedPolygonPoints(source, samples_per_side);
+    const std::vector<DVec3> to = stratifiedPolygonPoints(receiver, samples_per_side);
+    const size_t n = static_cast<size_t>(std::max(samples_per_side, 1));
+    size_t open = 0;
+    for (size_t k = 0; k < from.size(); ++k)
+        if (!blocked(from[k], to[pairedIndex(k, n)])) ++open;
+    if (rays_cast) *rays_cast += from.size();
+    return static_cast<double>(open) / static_cast<double>(from.size());
+}
+
+}  // namespace
+
+double RayCaster::visibleFraction(std::span<const DVec3> source, std::span<const DVec3> receiver,
+                                  int samples_per_side, size_t* rays_cast) const {
+    if (source.empty() || receiver.empty()) return 0.0;
+    const std::vector<DVec3> from = stratifiedPolygonPoints(source, samples_per_side);
+    const std::vector<DVec3> to = stratifiedPolygonPoints(receiver, samples_per_side);
+    const size_t open = impl_->countOpenPaired(from, to, static_cast<size_t>(std::max(samples_per_side, 1)));
+    if (rays_cast) *rays_cast += from.size();
+    return static_cast<double>(open) / static_cast<double>(from.size());
+}
+
+double RayCaster::visibleFractionAmong(std::span<const DVec3> source, std::span<const DVec3> receiver,
+                                       int samples_per_side, std::span<const TriangleRef> candidates,
+                                       size_t* rays_cast) const {
+    const std::vector<PreparedTriangle> triangles = impl_->prepare(candidates);
+    return sampledFraction(source, receiver, samples_per_side, rays_cast, [&](const DVec3& a, const DVec3& b) {
+        return impl_->occludedAmong(a, b, triangles);
+    });
+}
+
+void RayCaster::appendPartTriangles(const ConvexPart& part, std::vector<TriangleRef>& out) const {
+    if (part.mesh >= impl_->meshes.size()) return;
+    const MeshCopy& mesh = impl_->meshes[part.mesh];
+    const size_t polygon_count = mesh.polygon_start.empty() ? 0 : mesh.polygon_start.size() - 1;
+    for (uint32_t p : part.polygons) {
+        if (p >= polygon_count) continue;
+        for (uint32_t i = mesh.polygon_start[p]; i < mesh.polygon_start[p + 1]; ++i)
+            out.push_back({part.mesh, mesh.polygon_triangles[i]});
+    }
+}
+
+size_t RayCaster::reportLateErrors(Diagnostics& diagnostics) const {
+    std::lock_guard<std::mutex> lock(impl_->error_mutex);
+    const size_t count = impl_->late_error_count.exchange(0);
+    for (std::string& message : impl_->errors) diagnostics.error({}, "ray caster: " + message);
+    impl_->errors.clear();
+    return count;
+}
+
+}  // namespace radbake

@@ -1,0 +1,95 @@
+#pragma once
+// Ray-cast visibility over every triangle of a Scene. The implementation (ray_caster.cpp) is
+// the only file in the project that includes Embree; this header does not.
+//
+// Thread safety: build() is single-threaded; after it returns, every const query may be
+// called from any number of threads at once. Queries are deterministic: the same inputs give
+// the same answer on any thread and any thread count (fixed sample points, no RNG state).
+//
+// Tolerance: every segment is shortened by epsilon() at BOTH ends, so a segment that starts or
+// ends exactly on a surface (a patch's own sample point, a light sitting on a wall) is not
+// blocked by that surface. epsilon() = 1e-5 x sceneExtent(); see ray_caster.cpp for why,
+// and for the centred frame that keeps it valid for scenes far from the origin.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/math.h"
+#include "geometry/types.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+// One triangle of the scene: Scene::meshes[mesh].triangles[triangle].
+struct TriangleRef {
+    uint32_t mesh = 0;
+    uint32_t triangle = 0;
+};
+
+class RayCaster {
+public:
+    // Builds the acceleration structure (robust, high quality). Returns nullptr after an error
+    // reported to `diagnostics` (Embree's device or build errors); never throws. Triangles with
+    // out-of-range indices or non-finite vertices are skipped with a warning. `threads` caps
+    // the threads Embree builds with (0: Embree's default, all cores); queries run on the
+    // caller's threads. The structure's answers do not depend on it.
+    static std::unique_ptr<RayCaster> build(const Scene& scene, Diagnostics& diagnostics, int threads = 0);
+    ~RayCaster();
+    RayCaster(const RayCaster&) = delete;
+    RayCaster& operator=(const RayCaster&) = delete;
+
+    double sceneExtent() const;  // the scene's bounding-box diagonal (0 for an empty scene)
+    Aabb sceneBounds() const;    // bounding box of the usable triangles (empty() for none)
+    double epsilon() const;      // the end offset applied to every segment, scene units
+    size_t triangleCount() const;  // triangles in the structure
+
+    // True when some triangle crosses the segment strictly between from and to, both ends
+    // shortened by epsilon(). A segment shorter than 2 epsilon() is never blocked.
+    bool segmentBlocked(const DVec3& from, const DVec3& to) const;
+
+    // Visible fraction in [0, 1] between two convex polygons (vertices in order, 3 or more).
+    // Each polygon gets n x n stratified points (n = samples_per_side; cell centres of a
+    // grid mapped onto the polygon: bilinear on quads, area-preserving on triangles and other
+    // convex polygons), and source stratum (i, j) is joined to receiver stratum
+    // (i + j, i + 2j) mod n, a fixed bijection that keeps the pairs stratified (see
+    // ray_caster.cpp); so n*n segments are cast. Fraction =
+    // unblocked / n^2. rays_cast, when given, is INCREMENTED by the number of segments cast.
+    double visibleFraction(std::span<const DVec3> source, std::span<const DVec3> receiver,
+                           int samples_per_side, size_t* rays_cast = nullptr) const;
+
+    // The same sample segments, tested only against the given candidate triangles with an
+    // exact double-precision ray/triangle test (no Embree), for comparison with shaft
+    // candidate lists: equals visibleFraction() when the candidates hold every triangle that
+    // can block (up to the float/double precision difference at grazing hits).
+    double visibleFractionAmong(std::span<const DVec3> source, std::span<const DVec3> receiver,
+                                int samples_per_side, std::span<const TriangleRef> candidates,
+                                size_t* rays_cast = nullptr) const;
+    bool segmentBlockedAmong(const DVec3& from, const DVec3& to,
+                             std::span<const TriangleRef> candidates) const;
+
+    // Appends the triangles of a convex part (mesh part.mesh, source polygons part.polygons)
+    // to `out`, to turn a list of candidate parts into a candidate triangle list.
+    void appendPartTriangles(const ConvexPart& part, std::vector<TriangleRef>& out) const;
+
+    // Embree errors raised after build() (during queries) are counted here and reported to
+    // `diagnostics` by this call (single-threaded, e.g. at the end of a solve). Returns how many.
+    size_t reportLateErrors(Diagnostics& diagnostics) const;
+
+    struct Impl;
+
+private:
+    explicit RayCaster(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+// The n x n stratified sample points visibleFraction() uses on a convex polygon (exposed for
+// the solver, which may want to evaluate other quantities at the same points, and for tests).
+std::vector<DVec3> stratifiedPolygonPoints(std::span<const DVec3> polygon, int samples_per_side);
+
+// The receiver point index that visibleFraction() joins to source point k (0 <= k < n*n).
+size_t pairedSampleIndex(size_t k, int samples_per_side);
+
+}  // namespace radbake
