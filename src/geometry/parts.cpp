@@ -337,7 +337,9 @@ ConvexPart flatPart(const Piece& piece, const Welded& w, double relative_toleran
     // and flat box describe; the source deviates from it by at most the tolerance.
     const DVec3 n = piece.plane.normal;
     for (DVec3& p : pts) p -= n * piece.plane.eval(p);
-    part.vertices = removeCollinear(pts, toleranceFor(pts, relative_tolerance) * 1e-3);
+    const double tolerance = toleranceFor(pts, relative_tolerance);
+    part.vertices = removeCollinear(pts, tolerance * 1e-3);
+    part.inflation = tolerance;
     part.planes = {piece.plane};
     part.area = polygonArea(part.vertices);
     part.aabb = aabbOf(part.vertices);
@@ -388,6 +390,8 @@ void buildMeshParts(const Scene& scene, uint32_t mesh_index, const PartOptions& 
                                              : matchesHull(surface, hull, solid_tolerance);
         if (solid) {
             ConvexPart part = closedPart(hull, points);
+            // A detected solid may be dented by up to solid_tolerance inside its hull.
+            part.inflation = mesh.convex_solid ? tolerance : solid_tolerance;
             for (uint32_t p = 0; p < polygon_count; ++p) part.polygons.push_back(p);
             addPart(set, std::move(part), mesh_index);
             ++set.stats.closed_meshes;

@@ -49,6 +49,10 @@ struct ConvexPart {
     bool closed = false;
     double area = 0.0;    // flat: polygon area; closed: surface area
     double volume = 0.0;  // closed: hull volume; flat: 0
+    // How far the part may reach beyond the surface it stands for (a detected solid is its
+    // mesh's hull, a merged plate is fitted within a plane tolerance). A conservative
+    // occlusion test shrinks the part by this much before it claims anything.
+    double inflation = 0.0;
     Aabb aabb;
     Obb obb;
     uint32_t mesh = 0;            // Scene::meshes index it came from

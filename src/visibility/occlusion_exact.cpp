@@ -280,9 +280,11 @@ bool occludesExact(std::span<const DVec3> source, std::span<const DVec3> receive
         return false;
     }
     const double scale = magnitude(source, receiver, part);
-    const double margin = shaftTolerance(scale);
+    const double rounding_margin = shaftTolerance(scale);
+    // The part is shrunk by its inflation (how far it may overshoot the real surface).
+    const double margin = rounding_margin + part.inflation;
     // Absolute error of a plane value at a vertex, times 8 for the lambda-bound (see top).
-    const double rounding = margin;
+    const double rounding = rounding_margin;
     return part.closed ? closedOccludes(source, receiver, part, margin, rounding)
                        : flatOccludes(source, receiver, part, margin, rounding);
 }

@@ -69,6 +69,12 @@ TEST_CASE("a box mesh is one closed part with 6 planes and an exact OBB, also ro
             CHECK(set.stats.closed_parts == 1);
             CHECK(set.stats.max_obb_volume_ratio == doctest::Approx(1.0).epsilon(1e-6));
             CHECK(set.polygon_part[0] == std::vector<uint32_t>(6, 0u));
+            // A detected solid carries the detection tolerance (1e-3 of its extent) as the
+            // amount its hull may overshoot it; a flagged one only the plane tolerance.
+            const double diagonal = 2.0 * std::sqrt(1.0 + 4.0 + 0.25);
+            const double relative = flagged ? 1e-5 : 1e-3;
+            CHECK(part.inflation >= relative * 1.0);  // at least relative x the shortest side
+            CHECK(part.inflation <= relative * diagonal + 1e-4);  // + float rounding at |p| ~ 12
             checkBoxesContainVertices(set);
         }
     }

@@ -62,6 +62,21 @@ TEST_CASE("a wall exactly the size of the shaft's section occludes only when it 
     CHECK(occludesExact(kSource, kReceiver, wider));
 }
 
+TEST_CASE("the exact test shrinks a part by its inflation (a hull may overshoot its mesh)") {
+    // Overlapping the shaft's section by 1e-3 occludes; the same box flagged as possibly
+    // 2e-3 larger than the surface it stands for must not claim it, a 5e-4 inflation still may.
+    ConvexPart wall = boxPart({-1e-3, -1e-3, 0.9}, {1 + 1e-3, 1 + 1e-3, 1.1});
+    CHECK(occludesExact(kSource, kReceiver, wall));
+    wall.inflation = 2e-3;
+    CHECK_FALSE(occludesExact(kSource, kReceiver, wall));
+    wall.inflation = 5e-4;
+    CHECK(occludesExact(kSource, kReceiver, wall));
+    ConvexPart plate = flatPart(rectangle(2, 1.0, -1e-3, 1 + 1e-3, -1e-3, 1 + 1e-3));
+    CHECK(occludesExact(kSource, kReceiver, plate));
+    plate.inflation = 2e-3;
+    CHECK_FALSE(occludesExact(kSource, kReceiver, plate));
+}
+
 TEST_CASE("a tilted wall between diverging patches is found through its own face normal") {
     // Receiver larger and shifted; the wall is a thin box tilted 30 degrees around x.
     const std::vector<DVec3> r = rectangle(2, 3.0, -0.5, 2.0, -0.5, 2.5);
