@@ -1,10 +1,232 @@
-// TEMPORARY skeleton stub: replaced by the VRML reader.
+// Entry points of the VRML readers: file loading (gzip included), URL resolution and the
+// dispatch between VRML97 and VRML 1.0. The only file that includes zlib.
 #include "io/vrml/vrml_reader.h"
 
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+
+#include "io/vrml/vrml1_reader.h"
+#include "io/vrml/vrml97_builder.h"
+
 namespace radbake {
-bool looksLikeVrml(std::string_view first_bytes) { return first_bytes.starts_with("#VRML"); }
-bool readVrml(const std::string& path, const VrmlOptions&, Scene&, Diagnostics& diagnostics) {
-    diagnostics.error({path, 1, 1}, "VRML reading is not built yet");
+namespace {
+
+namespace fs = std::filesystem;
+
+bool isGzip(std::string_view bytes) {
+    return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+           static_cast<unsigned char>(bytes[1]) == 0x8b;
+}
+
+// Decompressed text is capped so a small bomb cannot exhaust memory.
+constexpr size_t kMaxTextBytes = size_t(4) << 30;
+
+// Gunzips every member of a gzip stream; false with a reason on corrupt or oversized data.
+bool gunzip(std::string_view bytes, std::string& out, std::string& reason) {
+    z_stream z{};
+    if (inflateInit2(&z, 15 + 32) != Z_OK) {
+        reason = "cannot initialise zlib";
+        return false;
+    }
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+    size_t remaining = bytes.size();
+    out.clear();
+    std::string chunk(size_t(1) << 18, '\0');
+    int status = Z_OK;
+    for (;;) {
+        if (z.avail_in == 0) {
+            const size_t take = std::min<size_t>(remaining, 1u << 30);
+            z.avail_in = static_cast<uInt>(take);
+            remaining -= take;
+        }
+        z.next_out = reinterpret_cast<Bytef*>(chunk.data());
+        z.avail_out = static_cast<uInt>(chunk.size());
+        status = inflate(&z, Z_NO_FLUSH);
+        out.append(chunk.data(), chunk.size() - z.avail_out);
+        if (out.size() > kMaxTextBytes) {
+            reason = "decompressed data larger than 4 GiB";
+            break;
+        }
+        if (status == Z_STREAM_END) {
+            // Another gzip member may follow (concatenated .gz files).
+            if (z.avail_in == 0 && remaining == 0) break;
+            if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
+                inflateReset(&z);
+                continue;
+            }
+            break;  // trailing garbage after the stream: ignore it, as gzip does
+        }
+        if (status != Z_OK) {
+            reason = status == Z_BUF_ERROR ? "gzip data is truncated"
+                                           : std::string("corrupt gzip data (") + (z.msg ? z.msg : "zlib error") + ")";
+            break;
+        }
+        if (z.avail_in == 0 && remaining == 0 && z.avail_out != 0) {
+            reason = "gzip data is truncated";
+            break;
+        }
+    }
+    inflateEnd(&z);
+    return reason.empty();
+}
+
+bool hasScheme(const std::string& url) {
+    // "http:", "urn:", "ftp:" ...; a single letter before ':' is a Windows drive.
+    const size_t colon = url.find(':');
+    if (colon == std::string::npos || colon < 2) return false;
+    return std::all_of(url.begin(), url.begin() + static_cast<std::ptrdiff_t>(colon), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
+    });
+}
+
+std::string percentDecode(const std::string& s) {
+    std::string out;
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(s[i + 2]))) {
+            out.push_back(static_cast<char>(std::stoi(s.substr(i + 1, 2), nullptr, 16)));
+            i += 2;
+        } else {
+            out.push_back(s[i]);
+        }
+    }
+    return out;
+}
+
+bool iequals(const std::string& a, const std::string& b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+               return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+           });
+}
+
+// Walks `relative` from `base` one component at a time, taking a case-insensitive match
+// where the exact name does not exist. Returns the plain join when nothing matches.
+fs::path caseInsensitiveResolve(const fs::path& base, const fs::path& relative) {
+    fs::path current = base;
+    std::error_code ec;
+    for (const fs::path& part : relative) {
+        const fs::path exact = current / part;
+        if (part == "." || part == ".." || fs::exists(exact, ec)) {
+            current = exact;
+            continue;
+        }
+        fs::path found;
+        for (fs::directory_iterator it(current.empty() ? fs::path(".") : current, ec), end; !ec && it != end;
+             it.increment(ec)) {
+            if (iequals(it->path().filename().string(), part.string())) {
+                found = current / it->path().filename();
+                break;
+            }
+        }
+        if (found.empty()) return base / relative;
+        current = found;
+    }
+    return current;
+}
+
+}  // namespace
+
+bool looksLikeVrml(std::string_view first_bytes) {
+    if (first_bytes.starts_with("\xEF\xBB\xBF")) first_bytes.remove_prefix(3);
+    return first_bytes.starts_with("#VRML") || isGzip(first_bytes);
+}
+
+bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene, Diagnostics& diagnostics) {
+    try {
+        const std::optional<std::string> text = vrml::loadText(path, {path, 0, 0}, diagnostics);
+        if (!text) return false;
+        std::error_code ec;
+        std::vector<std::string> inline_stack{fs::weakly_canonical(path, ec).string()};
+        return vrml::readText(*text, path, options, inline_stack, scene, diagnostics);
+    } catch (const std::bad_alloc&) {
+        diagnostics.error({path, 0, 0}, "out of memory while reading the scene");
+    } catch (const std::exception& e) {
+        diagnostics.error({path, 0, 0}, std::string("internal error while reading the scene: ") + e.what());
+    }
     return false;
 }
+
+namespace vrml {
+
+std::optional<std::string> loadText(const std::string& path, const SourceLocation& from, Diagnostics& diagnostics) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        diagnostics.error(from, "cannot open '" + path + "'");
+        return std::nullopt;
+    }
+    std::string bytes;
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(0, std::ios::beg);
+    if (size > 0) {
+        bytes.resize(static_cast<size_t>(size));
+        in.read(bytes.data(), size);
+        bytes.resize(static_cast<size_t>(in.gcount()));
+    }
+    if (in.bad()) {
+        diagnostics.error(from, "cannot read '" + path + "'");
+        return std::nullopt;
+    }
+    if (!isGzip(bytes)) return bytes;
+    std::string text, reason;
+    if (!gunzip(bytes, text, reason)) {
+        diagnostics.error(from, "'" + path + "': " + reason);
+        return std::nullopt;
+    }
+    return text;
+}
+
+std::optional<std::string> resolveUrl(const std::string& base_file, const std::string& url_in) {
+    std::string url = url_in;
+    if (url.starts_with("file://")) {
+        url = url.substr(7);
+        if (url.starts_with("localhost/")) url = url.substr(9);
+    } else if (url.starts_with("file:")) {
+        url = url.substr(5);
+    } else if (hasScheme(url)) {
+        return std::nullopt;
+    }
+    if (const size_t cut = url.find_first_of("#?"); cut != std::string::npos) url.resize(cut);
+    url = percentDecode(url);
+    std::replace(url.begin(), url.end(), '\\', '/');
+    if (url.empty()) return std::nullopt;
+    const fs::path target(url);
+    std::error_code ec;
+    if (target.is_absolute()) {
+        if (fs::exists(target, ec)) return target.string();
+        return caseInsensitiveResolve(target.root_path(), target.relative_path()).string();
+    }
+    const fs::path base = fs::path(base_file).parent_path();
+    const fs::path joined = base / target;
+    if (fs::exists(joined, ec)) return joined.lexically_normal().string();
+    return caseInsensitiveResolve(base, target).lexically_normal().string();
+}
+
+bool readText(std::string_view text, const std::string& path, const VrmlOptions& options,
+              std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics) {
+    std::string_view head = text;
+    if (head.starts_with("\xEF\xBB\xBF")) head.remove_prefix(3);
+    try {
+        if (head.starts_with("#VRML V2.0")) return readVrml97(text, path, options, inline_stack, scene, diagnostics);
+        if (head.starts_with("#VRML V1.0")) return readVrml1(text, path, options, inline_stack, scene, diagnostics);
+    } catch (const std::bad_alloc&) {
+        diagnostics.error({path, 0, 0}, "out of memory while reading the scene");
+        return false;
+    } catch (const std::exception& e) {
+        diagnostics.error({path, 0, 0}, std::string("internal error while reading the scene: ") + e.what());
+        return false;
+    }
+    std::string first_line(head.substr(0, std::min<size_t>(head.find_first_of("\r\n"), 40)));
+    for (char& c : first_line)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+    diagnostics.error({path, 1, 1}, "not a VRML file: the first line must start with \"#VRML V2.0\" or \"#VRML V1.0\" (found \"" +
+                                        first_line + "\")");
+    return false;
+}
+
+}  // namespace vrml
 }  // namespace radbake

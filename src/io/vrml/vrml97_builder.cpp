@@ -1,0 +1,450 @@
+#include "io/vrml/vrml97_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "io/vrml/primitives.h"
+#include "io/vrml/vrml97_parser.h"
+
+namespace radbake::vrml {
+namespace {
+
+const std::vector<float> kNoFloats;
+const std::vector<int32_t> kNoInts;
+const std::vector<std::string> kNoStrings;
+
+// VRML rotation (axis x y z, angle) as a matrix; a zero axis is no rotation.
+DMat4 rotationMatrix(const Vec4& r) {
+    const DVec3 axis(r.x, r.y, r.z);
+    const double length = glm::length(axis);
+    if (!(length > 0.0) || !std::isfinite(length) || !std::isfinite(r.w)) return DMat4(1.0);
+    return glm::mat4_cast(glm::angleAxis(double(r.w), axis / length));
+}
+
+DMat4 translationMatrix(const Vec3& t) {
+    DMat4 m(1.0);
+    m[3] = glm::dvec4(DVec3(t), 1.0);
+    return m;
+}
+
+DMat4 scaleMatrix(const Vec3& s) {
+    DMat4 m(1.0);
+    m[0][0] = s.x;
+    m[1][1] = s.y;
+    m[2][2] = s.z;
+    return m;
+}
+
+Vec3 transformPoint(const DMat4& m, const Vec3& p) { return Vec3(m * glm::dvec4(DVec3(p), 1.0)); }
+
+Vec3 transformDirection(const DMat4& m, const Vec3& d) {
+    const DVec3 r = glm::dmat3(m) * DVec3(d);
+    const double length = glm::length(r);
+    return length > 0.0 ? Vec3(r / length) : d;
+}
+
+}  // namespace
+
+void transformAppended(Scene& scene, size_t first_mesh, size_t first_light, size_t first_camera,
+                       const DMat4& m) {
+    const glm::dmat3 linear(m);
+    const bool mirrored = glm::determinant(linear) < 0.0;
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    const double scale = std::cbrt(std::abs(glm::determinant(linear)));
+    for (size_t i = first_mesh; i < scene.meshes.size(); ++i) {
+        Mesh& mesh = scene.meshes[i];
+        for (Vec3& p : mesh.positions) p = transformPoint(m, p);
+        for (Vec3& n : mesh.normals) {
+            const DVec3 r = normal_matrix * DVec3(n);
+            const double length = glm::length(r);
+            if (length > 0.0) n = Vec3(r / length);
+        }
+        if (mirrored)
+            for (UVec3& t : mesh.triangles) std::swap(t.y, t.z);
+    }
+    for (size_t i = first_light; i < scene.lights.size(); ++i) {
+        Light& light = scene.lights[i];
+        light.position = transformPoint(m, light.position);
+        light.direction = transformDirection(m, light.direction);
+        if (light.type != LightType::Directional) light.radius = float(light.radius * scale);
+    }
+    // Cameras keep a pure rotation: the columns of the linear part, normalised.
+    glm::dmat3 rotation = linear;
+    for (int c = 0; c < 3; ++c) {
+        const double length = glm::length(rotation[c]);
+        if (length > 0.0) rotation[c] /= length;
+    }
+    const Quat q = Quat(glm::quat_cast(rotation));
+    for (size_t i = first_camera; i < scene.cameras.size(); ++i) {
+        Camera& camera = scene.cameras[i];
+        camera.position = transformPoint(m, camera.position);
+        camera.orientation = glm::normalize(q * camera.orientation);
+    }
+}
+
+bool readVrml97(std::string_view text, const std::string& path, const VrmlOptions& options,
+                std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics) {
+    std::vector<NodePtr> roots;
+    Vrml97Parser parser(text, path, options, inline_stack, diagnostics);
+    if (!parser.parse(roots)) return false;
+    Vrml97Builder builder(path, options, inline_stack, scene, diagnostics);
+    return builder.build(roots);
+}
+
+Vrml97Builder::Vrml97Builder(std::string path, const VrmlOptions& options, std::vector<std::string>& inline_stack,
+                             Scene& scene, Diagnostics& diagnostics)
+    : path_(std::move(path)), options_(options), inline_stack_(inline_stack), scene_(scene),
+      diagnostics_(diagnostics) {}
+
+bool Vrml97Builder::build(const std::vector<NodePtr>& roots) {
+    const int errors_before = diagnostics_.errorCount();
+    for (const Mesh& mesh : scene_.meshes) triangles_ += mesh.triangles.size();
+    for (const NodePtr& root : roots) visit(root, DMat4(1.0), 0);
+    return !aborted_ && diagnostics_.errorCount() == errors_before;
+}
+
+void Vrml97Builder::abort(const SourceLocation& where, const std::string& message) {
+    if (!aborted_) diagnostics_.error(where, message);
+    aborted_ = true;
+}
+
+void Vrml97Builder::warnOnce(const std::string& key, const SourceLocation& where, const std::string& message) {
+    if (warned_.emplace(key, true).second) diagnostics_.warning(where, message);
+}
+
+// ---- field access -------------------------------------------------------------------------
+
+float Vrml97Builder::sfFloat(const Node& node, std::string_view name, float fallback) const {
+    const FieldValue* f = node.field(name);
+    return f && !f->floats.empty() ? f->floats[0] : fallback;
+}
+bool Vrml97Builder::sfBool(const Node& node, std::string_view name, bool fallback) const {
+    const FieldValue* f = node.field(name);
+    return f && !f->ints.empty() ? f->ints[0] != 0 : fallback;
+}
+int32_t Vrml97Builder::sfInt(const Node& node, std::string_view name, int32_t fallback) const {
+    const FieldValue* f = node.field(name);
+    return f && !f->ints.empty() ? f->ints[0] : fallback;
+}
+Vec3 Vrml97Builder::sfVec3(const Node& node, std::string_view name, Vec3 fallback) const {
+    const FieldValue* f = node.field(name);
+    return f && f->floats.size() >= 3 ? Vec3(f->floats[0], f->floats[1], f->floats[2]) : fallback;
+}
+Vec4 Vrml97Builder::sfRotation(const Node& node, std::string_view name, Vec4 fallback) const {
+    const FieldValue* f = node.field(name);
+    return f && f->floats.size() >= 4 ? Vec4(f->floats[0], f->floats[1], f->floats[2], f->floats[3]) : fallback;
+}
+const std::vector<float>& Vrml97Builder::mfFloats(const Node& node, std::string_view name) const {
+    const FieldValue* f = node.field(name);
+    return f ? f->floats : kNoFloats;
+}
+const std::vector<int32_t>& Vrml97Builder::mfInts(const Node& node, std::string_view name) const {
+    const FieldValue* f = node.field(name);
+    return f ? f->ints : kNoInts;
+}
+const std::vector<std::string>& Vrml97Builder::mfStrings(const Node& node, std::string_view name) const {
+    const FieldValue* f = node.field(name);
+    return f ? f->strings : kNoStrings;
+}
+NodePtr Vrml97Builder::sfNode(const Node& node, std::string_view name) {
+    const FieldValue* f = node.field(name);
+    return f && !f->nodes.empty() ? resolve(f->nodes[0]) : nullptr;
+}
+
+// ---- PROTO expansion ------------------------------------------------------------------------
+
+NodePtr Vrml97Builder::resolve(const NodePtr& start) {
+    NodePtr node = start;
+    int depth = 0;
+    while (node && node->proto && !aborted_) {
+        if (node->proto->unresolved) return nullptr;  // the parser warned at the EXTERNPROTO
+        if (++depth > vrml97Limits().max_proto_depth) {
+            abort(node->location, "PROTO instances nested deeper than " +
+                                      std::to_string(vrml97Limits().max_proto_depth) + " levels");
+            return nullptr;
+        }
+        if (!node->expansion) node->expansion = expand(*node);
+        node = node->expansion;
+    }
+    return aborted_ ? nullptr : node;
+}
+
+NodePtr Vrml97Builder::expand(const Node& instance) {
+    const ProtoDef& proto = *instance.proto;
+    if (proto.body.empty()) return nullptr;
+    std::unordered_map<std::string, const FieldValue*> env;
+    for (const InterfaceField& f : proto.interface) {
+        if (f.is_event) continue;
+        const FieldValue* given = instance.field(f.name);
+        env[f.name] = given ? given : &f.default_value;
+    }
+    std::unordered_map<const Node*, NodePtr> memo;
+    return copyTemplate(proto.body.front(), env, memo);
+}
+
+NodePtr Vrml97Builder::copyTemplate(const NodePtr& node, const std::unordered_map<std::string, const FieldValue*>& env,
+                                    std::unordered_map<const Node*, NodePtr>& memo) {
+    // Nodes with no IS below them are the same in every instance: share them.
+    if (!node || !node->subtree_has_is || aborted_) return node;
+    if (const auto it = memo.find(node.get()); it != memo.end()) return it->second;
+    if (++expanded_nodes_ > vrml97Limits().max_expanded_nodes) {
+        abort(node->location, "PROTO expansion makes more than " + std::to_string(vrml97Limits().max_expanded_nodes) +
+                                  " nodes");
+        return nullptr;
+    }
+    auto copy = std::make_shared<Node>();
+    copy->type = node->type;
+    copy->name = node->name;
+    copy->location = node->location;
+    copy->proto = node->proto;
+    copy->fields.reserve(node->fields.size());
+    for (const Field& f : node->fields) {
+        copy->fields.push_back({f.name, {}});
+        FieldValue& value = copy->fields.back().value;
+        value.type = f.value.type;
+        if (isNodeType(f.value.type)) {
+            for (const NodePtr& child : f.value.nodes) value.nodes.push_back(copyTemplate(child, env, memo));
+        } else {
+            value = f.value;
+        }
+    }
+    for (const IsBinding& binding : node->is_bindings) {
+        const auto it = env.find(binding.interface_field);
+        if (it == env.end()) continue;  // bound to an event: no value
+        if (FieldValue* existing = copy->field(binding.field)) *existing = *it->second;
+        else copy->fields.push_back({binding.field, *it->second});
+    }
+    memo[node.get()] = copy;
+    return copy;
+}
+
+// ---- traversal ------------------------------------------------------------------------------
+
+void Vrml97Builder::visitChildren(const Node& node, std::string_view field, const DMat4& m, int depth) {
+    const FieldValue* children = node.field(field);
+    if (!children) return;
+    for (const NodePtr& child : children->nodes) visit(child, m, depth + 1);
+}
+
+void Vrml97Builder::visit(const NodePtr& start, const DMat4& m, int depth) {
+    if (!start || aborted_) return;
+    if (++visits_ > vrml97Limits().max_node_visits) {
+        abort(start->location, "the scene graph expands to more than " +
+                                   std::to_string(vrml97Limits().max_node_visits) + " node instances (DEF/USE fan-out)");
+        return;
+    }
+    if (depth > 4 * vrml97Limits().max_nesting) {
+        abort(start->location, "scene graph nested too deeply through PROTOs");
+        return;
+    }
+    const NodePtr node = resolve(start);
+    if (!node) return;
+    const std::string& type = node->type;
+    if (type == "Transform") {
+        const Vec3 center = sfVec3(*node, "center", Vec3(0.0f));
+        const DMat4 scale_orientation = rotationMatrix(sfRotation(*node, "scaleOrientation", Vec4(0, 0, 1, 0)));
+        const DMat4 local = translationMatrix(sfVec3(*node, "translation", Vec3(0.0f))) * translationMatrix(center) *
+                            rotationMatrix(sfRotation(*node, "rotation", Vec4(0, 0, 1, 0))) * scale_orientation *
+                            scaleMatrix(sfVec3(*node, "scale", Vec3(1.0f))) *
+                            glm::transpose(scale_orientation) * translationMatrix(-center);
+        visitChildren(*node, "children", m * local, depth);
+    } else if (type == "Group" || type == "Collision" || type == "Billboard" || type == "Anchor") {
+        visitChildren(*node, "children", m, depth);
+    } else if (type == "Switch") {
+        const int32_t which = sfInt(*node, "whichChoice", -1);
+        const FieldValue* choice = node->field("choice");
+        if (choice && which >= 0 && static_cast<size_t>(which) < choice->nodes.size())
+            visit(choice->nodes[static_cast<size_t>(which)], m, depth + 1);
+    } else if (type == "LOD") {
+        const FieldValue* level = node->field("level");
+        if (level && !level->nodes.empty()) visit(level->nodes.front(), m, depth + 1);
+    } else if (type == "Shape") {
+        shape(*node, m);
+    } else if (type == "Inline") {
+        inlineNode(*node, m);
+    } else if (type == "PointLight" || type == "SpotLight" || type == "DirectionalLight") {
+        light(*node, m);
+    } else if (type == "Viewpoint") {
+        viewpoint(*node, m);
+    } else {
+        // Geometry, appearance or property nodes outside a Shape carry nothing to draw.
+        warnOnce("misplaced " + type, node->location, type + " node outside a Shape (or where a child is expected) ignored");
+    }
+}
+
+// ---- shapes and materials -------------------------------------------------------------------
+
+uint32_t Vrml97Builder::materialFor(const NodePtr& appearance) {
+    NodePtr material;
+    std::string texture;
+    if (appearance && appearance->type == "Appearance") {
+        material = sfNode(*appearance, "material");
+        if (material && material->type != "Material") material = nullptr;
+        if (NodePtr tex = sfNode(*appearance, "texture"); tex && tex->type == "ImageTexture") {
+            const auto& urls = mfStrings(*tex, "url");
+            if (!urls.empty()) texture = urls.front();
+        }
+    }
+    if (!material && texture.empty()) {
+        if (default_material_ == UINT32_MAX) {
+            Material m;
+            m.name = "default";
+            m.location = {path_, 0, 0};
+            default_material_ = static_cast<uint32_t>(scene_.materials.size());
+            scene_.materials.push_back(std::move(m));
+        }
+        return default_material_;
+    }
+    const auto key = std::make_pair(static_cast<const Node*>(material.get()), texture);
+    if (const auto it = materials_.find(key); it != materials_.end()) return it->second;
+    Material m;
+    m.texture = texture;
+    if (material) {
+        m.name = !material->name.empty() ? material->name
+                                         : "Material@" + std::to_string(material->location.line) + ":" +
+                                               std::to_string(material->location.column);
+        m.reflectance = sfVec3(*material, "diffuseColor", Vec3(0.8f));
+        m.emission = sfVec3(*material, "emissiveColor", Vec3(0.0f));
+        m.ambient_intensity = sfFloat(*material, "ambientIntensity", 0.2f);
+        m.transparency = sfFloat(*material, "transparency", 0.0f);
+        m.location = material->location;
+    } else {
+        m.name = "default";
+        m.location = appearance->location;
+    }
+    const uint32_t index = static_cast<uint32_t>(scene_.materials.size());
+    scene_.materials.push_back(std::move(m));
+    materials_[key] = index;
+    return index;
+}
+
+void Vrml97Builder::shape(const Node& node, const DMat4& m) {
+    const NodePtr geometry = sfNode(node, "geometry");
+    if (!geometry) return;
+    Mesh mesh;
+    const std::string& type = geometry->type;
+    bool ok = false;
+    if (type == "IndexedFaceSet") {
+        ok = indexedFaceSet(*geometry, mesh);
+    } else if (type == "ElevationGrid") {
+        ok = elevationGrid(*geometry, mesh);
+    } else if (type == "Extrusion") {
+        ok = extrusion(*geometry, mesh);
+    } else if (type == "Box") {
+        appendBox(mesh, sfVec3(*geometry, "size", Vec3(2.0f)));
+        ok = true;
+    } else if (type == "Sphere") {
+        appendSphere(mesh, sfFloat(*geometry, "radius", 1.0f));
+        ok = true;
+    } else if (type == "Cylinder") {
+        appendCylinder(mesh, sfFloat(*geometry, "radius", 1.0f), sfFloat(*geometry, "height", 2.0f),
+                       sfBool(*geometry, "side", true), sfBool(*geometry, "top", true), sfBool(*geometry, "bottom", true));
+        ok = true;
+    } else if (type == "Cone") {
+        appendCone(mesh, sfFloat(*geometry, "bottomRadius", 1.0f), sfFloat(*geometry, "height", 2.0f),
+                   sfBool(*geometry, "side", true), sfBool(*geometry, "bottom", true));
+        ok = true;
+    } else {
+        warnOnce("geometry " + type, geometry->location, type + " is not a geometry node; Shape ignored");
+    }
+    if (!ok || mesh.triangles.empty()) return;
+    mesh.material = materialFor(sfNode(node, "appearance"));
+    finishMesh(std::move(mesh), *geometry, m);
+}
+
+void Vrml97Builder::finishMesh(Mesh mesh, const Node& geometry, const DMat4& m) {
+    triangles_ += mesh.triangles.size();
+    if (triangles_ > vrml97Limits().max_triangles) {
+        abort(geometry.location, "the scene has more than " + std::to_string(vrml97Limits().max_triangles) + " triangles");
+        return;
+    }
+    mesh.location = geometry.location;
+    mesh.name = !geometry.name.empty() ? geometry.name : geometry.type;
+    const size_t first = scene_.meshes.size();
+    scene_.meshes.push_back(std::move(mesh));
+    transformAppended(scene_, first, scene_.lights.size(), scene_.cameras.size(), m);
+}
+
+// ---- lights, viewpoints, inlines ---------------------------------------------------------------
+
+void Vrml97Builder::light(const Node& node, const DMat4& m) {
+    Light light;
+    light.location = node.location;
+    light.color = sfVec3(node, "color", Vec3(1.0f));
+    light.intensity = sfFloat(node, "intensity", 1.0f);
+    light.ambient_intensity = sfFloat(node, "ambientIntensity", 0.0f);
+    light.on = sfBool(node, "on", true);
+    if (node.type == "DirectionalLight") {
+        light.type = LightType::Directional;
+        light.direction = sfVec3(node, "direction", Vec3(0, 0, -1));
+        light.radius = INFINITY;
+    } else {
+        light.type = node.type == "SpotLight" ? LightType::Spot : LightType::Point;
+        light.position = sfVec3(node, "location", Vec3(0.0f));
+        light.attenuation = sfVec3(node, "attenuation", Vec3(1, 0, 0));
+        light.radius = sfFloat(node, "radius", 100.0f);
+        if (light.type == LightType::Spot) {
+            light.direction = sfVec3(node, "direction", Vec3(0, 0, -1));
+            light.beam_width = sfFloat(node, "beamWidth", 1.570796f);
+            light.cut_off_angle = sfFloat(node, "cutOffAngle", 0.785398f);
+        }
+    }
+    const double length = glm::length(DVec3(light.direction));
+    if (length > 0.0 && std::isfinite(length)) light.direction = Vec3(DVec3(light.direction) / length);
+    scene_.lights.push_back(light);
+    transformAppended(scene_, scene_.meshes.size(), scene_.lights.size() - 1, scene_.cameras.size(), m);
+}
+
+void Vrml97Builder::viewpoint(const Node& node, const DMat4& m) {
+    Camera camera;
+    camera.location = node.location;
+    const auto& description = node.field("description");
+    camera.name = description && !description->strings.empty() ? description->strings.front() : node.name;
+    camera.position = sfVec3(node, "position", Vec3(0, 0, 10));
+    const Vec4 r = sfRotation(node, "orientation", Vec4(0, 0, 1, 0));
+    camera.orientation = Quat(glm::quat_cast(rotationMatrix(r)));
+    camera.field_of_view = sfFloat(node, "fieldOfView", 0.785398f);
+    scene_.cameras.push_back(camera);
+    transformAppended(scene_, scene_.meshes.size(), scene_.lights.size(), scene_.cameras.size() - 1, m);
+}
+
+void Vrml97Builder::inlineNode(const Node& node, const DMat4& m) {
+    const auto& urls = mfStrings(node, "url");
+    std::string missing;
+    for (const std::string& url : urls) {
+        const std::optional<std::string> resolved = resolveUrl(path_, url);
+        if (!resolved) continue;
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(*resolved, ec)) {
+            if (missing.empty()) missing = *resolved;
+            continue;
+        }
+        const std::string key = std::filesystem::weakly_canonical(*resolved, ec).string();
+        if (std::find(inline_stack_.begin(), inline_stack_.end(), key) != inline_stack_.end()) {
+            diagnostics_.warning(node.location, "Inline '" + url + "' includes a file already being read; skipped");
+            return;
+        }
+        if (static_cast<int>(inline_stack_.size()) >= vrml97Limits().max_file_depth) {
+            diagnostics_.warning(node.location, "Inlines nested more than " +
+                                                    std::to_string(vrml97Limits().max_file_depth) + " deep; skipped");
+            return;
+        }
+        const std::optional<std::string> text = loadText(*resolved, node.location, diagnostics_);
+        if (!text) return;
+        const size_t meshes = scene_.meshes.size(), lights = scene_.lights.size(), cameras = scene_.cameras.size();
+        inline_stack_.push_back(key);
+        readText(*text, *resolved, options_, inline_stack_, scene_, diagnostics_);
+        inline_stack_.pop_back();
+        transformAppended(scene_, meshes, lights, cameras, m);
+        return;
+    }
+    const std::string message = urls.empty() ? "Inline without a url ignored"
+                                : missing.empty()
+                                    ? "Inline has no local url ('" + urls.front() + "'); skipped"
+                                    : "Inline file '" + missing + "' not found; skipped";
+    if (options_.strict && !urls.empty()) diagnostics_.error(node.location, message);
+    else diagnostics_.warning(node.location, message);
+}
+
+}  // namespace radbake::vrml
