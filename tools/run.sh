@@ -4,4 +4,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 bash tools/build.sh
-./build/src/radbake info scenes/cornell_box.wrl
+./build/src/radbake bake scenes/cornell_box.wrl -o out/cornell_box

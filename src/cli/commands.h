@@ -15,5 +15,6 @@ inline constexpr int kExitUsage = 2;       // bad command line
 void printDiagnosticsToStderr(Diagnostics& diagnostics);
 
 void addInfoCommand(CLI::App& app, int& result);
+void addBakeCommand(CLI::App& app, int& result);
 
 }  // namespace radbake::cli

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
 
     int result = kExitOk;
     addInfoCommand(app, result);
+    addBakeCommand(app, result);
 
     try {
         app.parse(argc, argv);

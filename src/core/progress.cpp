@@ -1,5 +1,6 @@
 #include "core/progress.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace radbake {
@@ -8,11 +9,26 @@ namespace {
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+// "42.0 s" below two minutes, "3 min 05 s" above: long bakes read better in minutes.
+std::string duration(double seconds) {
+    char buffer[32];
+    if (seconds < 120.0) {
+        std::snprintf(buffer, sizeof buffer, "%.1f s", seconds);
+    } else {
+        const long whole = static_cast<long>(seconds);
+        std::snprintf(buffer, sizeof buffer, "%ld min %02ld s", whole / 60, whole % 60);
+    }
+    return buffer;
+}
 }  // namespace
 
-Progress::Progress(bool show) : show_(show) {}
+Progress::Progress(bool show)
+    : show_(show), start_(std::chrono::steady_clock::now()), phase_start_(start_) {}
 
 Progress::~Progress() { endPhase(); }
+
+double Progress::totalSeconds() const { return secondsSince(start_); }
 
 void Progress::beginPhase(std::string_view name) {
     endPhase();
@@ -20,10 +36,11 @@ void Progress::beginPhase(std::string_view name) {
     phase_start_ = std::chrono::steady_clock::now();
     fraction_ = 0.0;
     last_draw_ns_ = 0;
+    if (show_) draw(false);
 }
 
 void Progress::update(double fraction) {
-    fraction_.store(fraction, std::memory_order_relaxed);
+    fraction_.store(std::clamp(fraction, 0.0, 1.0), std::memory_order_relaxed);
     if (!show_) return;
     // Redraw at most ten times a second; whichever thread wins the exchange draws.
     const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -40,16 +57,32 @@ void Progress::endPhase() {
     current_.clear();
 }
 
+void Progress::printLine(std::string_view line) {
+    std::lock_guard<std::mutex> lock(draw_mutex_);
+    if (line_open_) std::fputs("\r\033[K", stderr);
+    std::fwrite(line.data(), 1, line.size(), stderr);
+    std::fputc('\n', stderr);
+    line_open_ = false;
+    std::fflush(stderr);
+}
+
 void Progress::draw(bool final_line) {
+    std::lock_guard<std::mutex> lock(draw_mutex_);
     const double elapsed = secondsSince(phase_start_);
+    const double total = secondsSince(start_);
     const double f = fraction_.load(std::memory_order_relaxed);
     if (final_line) {
-        std::fprintf(stderr, "\r\033[K%-12s done in %.2f s\n", current_.c_str(), elapsed);
+        std::fprintf(stderr, "\r\033[K%-12s done in %s\n", current_.c_str(), duration(elapsed).c_str());
+        line_open_ = false;
     } else if (f > 0.01) {
-        std::fprintf(stderr, "\r\033[K%-12s %5.1f %%  elapsed %.1f s  remaining ~%.1f s", current_.c_str(),
-                     100.0 * f, elapsed, elapsed * (1.0 - f) / f);
+        std::fprintf(stderr, "\r\033[K%-12s %5.1f %%  elapsed %s (total %s)  remaining ~%s", current_.c_str(),
+                     100.0 * f, duration(elapsed).c_str(), duration(total).c_str(),
+                     duration(elapsed * (1.0 - f) / f).c_str());
+        line_open_ = true;
     } else {
-        std::fprintf(stderr, "\r\033[K%-12s elapsed %.1f s", current_.c_str(), elapsed);
+        std::fprintf(stderr, "\r\033[K%-12s elapsed %s (total %s)", current_.c_str(), duration(elapsed).c_str(),
+                     duration(total).c_str());
+        line_open_ = true;
     }
     std::fflush(stderr);
 }

@@ -17,17 +17,47 @@ struct PartSet;
 enum class VisibilityMode { Rays, Aabb, Obb, Exact };
 enum class Quality { Draft, Medium, High, Reference };
 
+// Every threshold is relative to the scene, so a scene scaled by any factor (1e-4, 1e6)
+// refines the same way:
+//   - a link (receiver R, source S) is refined while
+//       rho_R * (F_max - F_min) * B_S * A_R  >  error_threshold * P,
+//     the power it may misplace (W; max channel). P is the emitted power, sum over roots of
+//     A * (pi L_e + rho H_direct), in the first round, and the power leaving all surfaces
+//     (sum of A * B) in later rounds. F_min is 0 when the link has potential occluders;
+//     F_max/F_min are the point form factor's extremes over the receiver's sample points.
+//     (area_exponent < 1 replaces A_R by A_total (A_R / A_total)^area_exponent.)
+//   - an element is split only while its area exceeds min_element_area * total scene area;
+//   - direct light of punctual lights refines an element while
+//       rho * (H_max - H_min) * A > error_threshold * P.
+// The solve scales each leaf's inherited irradiance so its row sum matches the point form
+// factors at its centroid (solve.cpp): the oracle bounds power, not local error, and without
+// this closed scenes at rho = 0.99 drift by tens of percent.
 struct SolverOptions {
     VisibilityMode visibility = VisibilityMode::Exact;
     Quality quality = Quality::Medium;
-    double error_threshold = 0.0;      // refine while (F_max - F_min) * B_source exceeds this (relative; see solver.cpp)
-    double min_element_area = 0.0;     // relative to the scene's total area
-    double iteration_tolerance = 0.0;  // stop when the relative change in radiosity is below this
-    int max_iterations = 0;
+    double error_threshold = 2e-4;     // fraction of the emitted power a link may misplace (above)
+    double min_element_area = 1e-4;    // relative to the scene's total area
+    double iteration_tolerance = 1e-4; // stop when |E + rho K B - B| / |E| (area-weighted) is below this
+    int max_iterations = 200;          // operator applications (GMRES steps) per solve, then a warning
     int threads = 0;                   // 0: all cores
+
+    // Finer knobs, set by forQuality.
+    int refine_rounds = 2;             // refine-solve rounds (the first with emitted light only)
+    int quadrature_order = 3;          // Gauss points per side of a receiver cell
+    double quadrature_near_ratio = 0.5;  // cells closer to the source than this x their radius split
+    int quadrature_max_depth = 2;      // towards a touching source (the singularity is mild:
+                                       // 1e-6 relative on unit squares sharing an edge)
+    int visibility_samples = 3;        // rays per side for a partial link (n x n segments)
+    double probe_opening = 0.5;        // probes open an element when radius / distance exceeds this
+    int probe_samples = 2;             // rays per side from a probe to each element it gathers from
+    bool pin_threads = true;           // pin the solver's workers to cores
+    double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
 
     static SolverOptions forQuality(Quality quality);  // fills every knob from a preset
 };
+
+const char* toString(VisibilityMode mode);
+const char* toString(Quality quality);
 
 struct SolveStats {
     size_t elements = 0;
@@ -35,8 +65,14 @@ struct SolveStats {
     size_t shafts = 0;
     size_t occluded_links = 0;
     size_t rays = 0;
-    int iterations = 0;
-    bool converged = false;
+    int iterations = 0;               // operator applications over all rounds
+    bool converged = false;           // the last solve reached iteration_tolerance
+    size_t leaves = 0;
+    size_t roots = 0;
+    size_t candidate_links = 0;       // links the oracle evaluated
+    size_t partial_links = 0;         // final links found partly hidden (visibility < 1)
+    int rounds = 0;
+    double residual = 0.0;            // final relative residual
 };
 
 struct Solution;  // defined in radiosity/solution.h

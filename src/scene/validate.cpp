@@ -1,6 +1,419 @@
-// TEMPORARY skeleton stub: replaced by scene validation.
+// Scene validation: the last stop before any later stage sees the scene. Bad numbers are
+// located errors; bad or useless geometry is dropped and counted, one warning per mesh.
 #include "scene/validate.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
 namespace radbake {
-bool validateScene(Scene&, Diagnostics& diagnostics) { return !diagnostics.hasErrors(); }
+namespace {
+
+// Reflectance must stay below 1 or the radiosity system does not converge.
+constexpr float kMaxReflectance = 0.999f;
+
+// Positions are floats; a coordinate of magnitude up to E (the scene's extent) is rounded by
+// up to E * 2^-24. A triangle whose smallest height is below a few such steps has no
+// reliable plane or area: it is degenerate at this scene's precision.
+constexpr double kFloatStep = 1.0 / 16777216.0;  // 2^-24
+constexpr double kDegenerateHeightSteps = 4.0;
+
+// Two polygons are taken as duplicates when their planes and centroids agree within this
+// fraction of the extent: far above float rounding of the same vertices reached through
+// different transforms or vertex orders, far below any deliberate modelling offset.
+constexpr double kDuplicateRelativeTolerance = 1e-5;
+constexpr double kDuplicateNormalCos = 0.9999;  // about 0.8 degrees
+
+std::string quoted(const std::string& name) { return "'" + name + "'"; }
+
+std::string describeMesh(const Mesh& mesh, size_t index) {
+    return mesh.name.empty() ? "mesh #" + std::to_string(index) : "mesh " + quoted(mesh.name);
+}
+
+std::string describeMaterial(const Material& material, size_t index) {
+    return material.name.empty() ? "material #" + std::to_string(index) : "material " + quoted(material.name);
+}
+
+const char* lightKind(LightType type) {
+    switch (type) {
+        case LightType::Point: return "point light";
+        case LightType::Spot: return "spot light";
+        case LightType::Directional: return "directional light";
+    }
+    return "light";
+}
+
+bool finite(float value) { return std::isfinite(value); }
+
+std::string vecText(const Vec3& v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+// ---------------------------------------------------------------------------------------
+// Materials, lights, cameras.
+
+bool validateMaterial(Material& material, size_t index, Diagnostics& diagnostics) {
+    const std::string what = describeMaterial(material, index);
+    if (!isFinite(material.reflectance) || !isFinite(material.emission) || !finite(material.transparency) ||
+        !finite(material.ambient_intensity)) {
+        diagnostics.error(material.location, what + " has a non-finite colour or value");
+        return false;
+    }
+    const Vec3 clamped = glm::clamp(material.reflectance, Vec3(0.0f), Vec3(kMaxReflectance));
+    if (glm::any(glm::lessThan(material.reflectance, Vec3(0.0f))))
+        diagnostics.warning(material.location, what + " has negative reflectance " + vecText(material.reflectance) +
+                                                   ", clamped to 0");
+    if (glm::any(glm::greaterThanEqual(material.reflectance, Vec3(1.0f))))
+        diagnostics.warning(material.location, what + " has reflectance " + vecText(material.reflectance) +
+                                                   " >= 1, clamped to " + std::to_string(kMaxReflectance));
+    material.reflectance = clamped;
+    if (glm::any(glm::lessThan(material.emission, Vec3(0.0f)))) {
+        diagnostics.warning(material.location,
+                            what + " has negative emission " + vecText(material.emission) + ", clamped to 0");
+        material.emission = glm::max(material.emission, Vec3(0.0f));
+    }
+    return true;
+}
+
+bool validateLight(const Light& light, size_t index, Diagnostics& diagnostics) {
+    // An unbounded radius is legitimate (formats without a light range); NaN is not.
+    const bool ok = isFinite(light.position) && isFinite(light.direction) && isFinite(light.color) &&
+                    finite(light.intensity) && finite(light.ambient_intensity) && isFinite(light.attenuation) &&
+                    !std::isnan(light.radius) && finite(light.beam_width) && finite(light.cut_off_angle);
+    if (!ok)
+        diagnostics.error(light.location,
+                          std::string(lightKind(light.type)) + " #" + std::to_string(index) + " has a non-finite value");
+    return ok;
+}
+
+bool validateCamera(const Camera& camera, size_t index, Diagnostics& diagnostics) {
+    const bool ok = isFinite(camera.position) && std::isfinite(camera.orientation.x) &&
+                    std::isfinite(camera.orientation.y) && std::isfinite(camera.orientation.z) &&
+                    std::isfinite(camera.orientation.w) && finite(camera.field_of_view);
+    if (!ok)
+        diagnostics.error(camera.location, "camera " + (camera.name.empty() ? "#" + std::to_string(index)
+                                                                            : quoted(camera.name)) +
+                                               " has a non-finite value");
+    return ok;
+}
+
+// ---------------------------------------------------------------------------------------
+// Meshes.
+
+// Errors that make the mesh unusable. Reported once per mesh, naming the first bad vertex.
+bool checkMeshNumbers(const Mesh& mesh, size_t index, size_t material_count, Diagnostics& diagnostics) {
+    const std::string what = describeMesh(mesh, index);
+    bool ok = true;
+    auto firstBad = [](const std::vector<Vec3>& values, size_t& bad_count) {
+        size_t first = values.size();
+        bad_count = 0;
+        for (size_t i = 0; i < values.size(); ++i)
+            if (!isFinite(values[i])) {
+                if (first == values.size()) first = i;
+                ++bad_count;
+            }
+        return first;
+    };
+    size_t bad = 0;
+    if (size_t first = firstBad(mesh.positions, bad); bad > 0) {
+        diagnostics.error(mesh.location, what + ": " + std::to_string(bad) + " vertex position(s) not finite (first: vertex " +
+                                             std::to_string(first) + ")");
+        ok = false;
+    }
+    if (size_t first = firstBad(mesh.vertex_colors, bad); bad > 0) {
+        diagnostics.error(mesh.location, what + ": " + std::to_string(bad) + " vertex colour(s) not finite (first: vertex " +
+                                             std::to_string(first) + ")");
+        ok = false;
+    }
+    if (size_t first = firstBad(mesh.polygon_colors, bad); bad > 0) {
+        diagnostics.error(mesh.location, what + ": " + std::to_string(bad) +
+                                             " polygon colour(s) not finite (first: polygon " + std::to_string(first) + ")");
+        ok = false;
+    }
+    if (mesh.material >= material_count) {
+        diagnostics.error(mesh.location, what + " refers to material " + std::to_string(mesh.material) + " of " +
+                                             std::to_string(material_count));
+        ok = false;
+    }
+    return ok;
+}
+
+// Per-vertex and per-polygon arrays that do not match their count cannot be trusted; they
+// are optional data, so they are dropped rather than failing the scene.
+void dropMismatchedArrays(Mesh& mesh, size_t index, Diagnostics& diagnostics) {
+    const std::string what = describeMesh(mesh, index);
+    auto drop = [&](std::vector<Vec3>& values, size_t expected, const char* kind) {
+        if (values.empty() || values.size() == expected) return;
+        diagnostics.warning(mesh.location, what + ": " + std::to_string(values.size()) + " " + kind + " for " +
+                                               std::to_string(expected) + ", ignored");
+        values.clear();
+    };
+    drop(mesh.vertex_colors, mesh.positions.size(), "vertex colours");
+    drop(mesh.normals, mesh.positions.size(), "normals");
+    drop(mesh.polygon_colors, mesh.polygon_count, "polygon colours");
+    if (!mesh.normals.empty() && std::any_of(mesh.normals.begin(), mesh.normals.end(),
+                                             [](const Vec3& n) { return !isFinite(n); })) {
+        diagnostics.warning(mesh.location, what + ": non-finite normals, ignored");
+        mesh.normals.clear();
+    }
+    // A broken polygon map would corrupt every later stage: fall back to one polygon per triangle.
+    bool map_ok = mesh.triangle_polygon.size() == mesh.triangles.size();
+    for (size_t t = 0; map_ok && t < mesh.triangle_polygon.size(); ++t) {
+        const uint32_t p = mesh.triangle_polygon[t];
+        map_ok = p < mesh.polygon_count && (t == 0 ? true : (p == mesh.triangle_polygon[t - 1] ||
+                                                             p == mesh.triangle_polygon[t - 1] + 1));
+        if (t == 0) map_ok = map_ok && p == 0;
+    }
+    if (!map_ok) {
+        if (!mesh.triangles.empty())
+            diagnostics.warning(mesh.location, what + ": inconsistent triangle-to-polygon map, each triangle taken as a polygon");
+        mesh.triangle_polygon.resize(mesh.triangles.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) mesh.triangle_polygon[t] = static_cast<uint32_t>(t);
+        mesh.polygon_count = static_cast<uint32_t>(mesh.triangles.size());
+        mesh.polygon_colors.clear();
+    }
+}
+
+struct CleanupCounts {
+    size_t out_of_range = 0;
+    size_t degenerate = 0;
+    size_t unused_vertices = 0;
+    size_t removed_polygons = 0;
+};
+
+bool isDegenerate(const Mesh& mesh, const UVec3& t, double min_height) {
+    if (t.x == t.y || t.y == t.z || t.x == t.z) return true;
+    const DVec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
+    const double twice_area = glm::length(glm::cross(b - a, c - a));
+    const double longest = std::sqrt(std::max({glm::length2(b - a), glm::length2(c - b), glm::length2(a - c)}));
+    // Smallest height = 2 * area / longest edge.
+    return !(twice_area > min_height * longest);
+}
+
+// Drops bad triangles, then polygons left without triangles, then unused vertices, keeping
+// every parallel array in step and the polygon numbering contiguous.
+CleanupCounts cleanMesh(Mesh& mesh, double min_height) {
+    CleanupCounts counts;
+    const size_t vertex_count = mesh.positions.size();
+    std::vector<UVec3> triangles;
+    std::vector<uint32_t> triangle_polygon;
+    triangles.reserve(mesh.triangles.size());
+    triangle_polygon.reserve(mesh.triangles.size());
+    std::vector<uint32_t> new_polygon(mesh.polygon_count, UINT32_MAX);
+    std::vector<uint32_t> kept_polygons;  // old ids in new order
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const UVec3& tri = mesh.triangles[t];
+        if (tri.x >= vertex_count || tri.y >= vertex_count || tri.z >= vertex_count) {
+            ++counts.out_of_range;
+            continue;
+        }
+        if (isDegenerate(mesh, tri, min_height)) {
+            ++counts.degenerate;
+            continue;
+        }
+        const uint32_t old_polygon = mesh.triangle_polygon[t];
+        if (new_polygon[old_polygon] == UINT32_MAX) {
+            new_polygon[old_polygon] = static_cast<uint32_t>(kept_polygons.size());
+            kept_polygons.push_back(old_polygon);
+        }
+        triangles.push_back(tri);
+        triangle_polygon.push_back(new_polygon[old_polygon]);
+    }
+    counts.removed_polygons = mesh.polygon_count - kept_polygons.size();
+    if (!mesh.polygon_colors.empty()) {
+        std::vector<Vec3> colors;
+        colors.reserve(kept_polygons.size());
+        for (uint32_t old_polygon : kept_polygons) colors.push_back(mesh.polygon_colors[old_polygon]);
+        mesh.polygon_colors = std::move(colors);
+    }
+    mesh.polygon_count = static_cast<uint32_t>(kept_polygons.size());
+
+    // Unused vertices: renumber the used ones in their original order.
+    std::vector<uint32_t> new_vertex(vertex_count, UINT32_MAX);
+    for (const UVec3& tri : triangles)
+        for (int k = 0; k < 3; ++k) new_vertex[tri[k]] = 0;
+    uint32_t next = 0;
+    for (size_t v = 0; v < vertex_count; ++v)
+        if (new_vertex[v] == 0) new_vertex[v] = next++;
+    counts.unused_vertices = vertex_count - next;
+    if (counts.unused_vertices > 0) {
+        auto compact = [&](std::vector<Vec3>& values) {
+            if (values.empty()) return;
+            for (size_t v = 0; v < vertex_count; ++v)
+                if (new_vertex[v] != UINT32_MAX) values[new_vertex[v]] = values[v];
+            values.resize(next);
+        };
+        compact(mesh.positions);
+        compact(mesh.normals);
+        compact(mesh.vertex_colors);
+        for (UVec3& tri : triangles) tri = UVec3(new_vertex[tri.x], new_vertex[tri.y], new_vertex[tri.z]);
+    }
+    mesh.triangles = std::move(triangles);
+    mesh.triangle_polygon = std::move(triangle_polygon);
+    return counts;
+}
+
+void reportCleanup(const Mesh& mesh, size_t index, const CleanupCounts& counts, Diagnostics& diagnostics) {
+    std::string parts;
+    auto add = [&](size_t count, const char* text) {
+        if (count == 0) return;
+        if (!parts.empty()) parts += ", ";
+        parts += std::to_string(count) + " " + text;
+    };
+    add(counts.out_of_range, "triangle(s) with out-of-range indices");
+    add(counts.degenerate, "degenerate triangle(s)");
+    add(counts.unused_vertices, "unused vertex(es)");
+    add(counts.removed_polygons, "polygon(s) left without triangles");
+    if (!parts.empty()) diagnostics.warning(mesh.location, describeMesh(mesh, index) + ": dropped " + parts);
+}
+
+// ---------------------------------------------------------------------------------------
+// Duplicate coplanar faces.
+
+struct PolygonFootprint {
+    uint32_t mesh = 0;
+    uint32_t polygon = 0;
+    DVec3 normal{0.0};  // unit
+    DVec3 centroid{0.0};
+};
+
+// Area-weighted plane and centroid of every polygon (triangles of a polygon are contiguous).
+void collectFootprints(const std::vector<Mesh>& meshes, std::vector<PolygonFootprint>& out) {
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        const Mesh& mesh = meshes[m];
+        size_t t = 0;
+        while (t < mesh.triangles.size()) {
+            const uint32_t polygon = mesh.triangle_polygon[t];
+            DVec3 area_normal(0.0), weighted_centroid(0.0);
+            double area = 0.0;
+            for (; t < mesh.triangles.size() && mesh.triangle_polygon[t] == polygon; ++t) {
+                const UVec3& tri = mesh.triangles[t];
+                const DVec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+                const DVec3 n = glm::cross(b - a, c - a);  // twice the area
+                const double twice = glm::length(n);
+                area_normal += n;
+                weighted_centroid += twice * (a + b + c) / 3.0;
+                area += twice;
+            }
+            const double normal_length = glm::length(area_normal);
+            if (area <= 0.0 || normal_length <= 0.0) continue;
+            out.push_back({static_cast<uint32_t>(m), polygon, area_normal / normal_length, weighted_centroid / area});
+        }
+    }
+}
+
+struct CellKey {
+    int64_t x, y, z;
+    bool operator==(const CellKey&) const = default;
+};
+struct CellHash {
+    size_t operator()(const CellKey& k) const {
+        uint64_t h = static_cast<uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
+        h ^= static_cast<uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+        h ^= static_cast<uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+        return static_cast<size_t>(h);
+    }
+};
+
+// Two coplanar polygons facing the same way whose centroids coincide overlap (a centroid
+// lies inside its convex polygon), so a hash on the rounded centroid, with the plane checked
+// on the few candidates, finds the same face given twice in linear time. Back-to-back faces
+// (opposite normals) are a legitimate thin wall and are not reported.
+void reportDuplicates(const std::vector<Mesh>& meshes, double extent, Diagnostics& diagnostics) {
+    std::vector<PolygonFootprint> polygons;
+    collectFootprints(meshes, polygons);
+    const double tolerance = std::max(kDuplicateRelativeTolerance * extent, std::numeric_limits<double>::min());
+    auto cellOf = [&](const DVec3& p) {
+        return CellKey{static_cast<int64_t>(std::floor(p.x / tolerance)), static_cast<int64_t>(std::floor(p.y / tolerance)),
+                       static_cast<int64_t>(std::floor(p.z / tolerance))};
+    };
+    std::unordered_map<CellKey, std::vector<uint32_t>, CellHash> grid;
+    grid.reserve(polygons.size());
+    // (mesh a, mesh b) -> (count, first example pair)
+    std::map<std::pair<uint32_t, uint32_t>, std::pair<size_t, std::pair<uint32_t, uint32_t>>> pairs;
+    for (uint32_t i = 0; i < polygons.size(); ++i) {
+        const PolygonFootprint& p = polygons[i];
+        const CellKey cell = cellOf(p.centroid);
+        bool found = false;
+        for (int64_t dx = -1; dx <= 1 && !found; ++dx)
+            for (int64_t dy = -1; dy <= 1 && !found; ++dy)
+                for (int64_t dz = -1; dz <= 1 && !found; ++dz) {
+                    auto it = grid.find({cell.x + dx, cell.y + dy, cell.z + dz});
+                    if (it == grid.end()) continue;
+                    for (uint32_t j : it->second) {
+                        const PolygonFootprint& q = polygons[j];
+                        if (glm::length(p.centroid - q.centroid) > tolerance) continue;
+                        if (glm::dot(p.normal, q.normal) < kDuplicateNormalCos) continue;
+                        auto& entry = pairs[{q.mesh, p.mesh}];
+                        if (entry.first++ == 0) entry.second = {q.polygon, p.polygon};
+                        found = true;  // one report per polygon, whatever else it duplicates
+                        break;
+                    }
+                }
+        grid[cell].push_back(i);
+    }
+    for (const auto& [key, value] : pairs) {
+        const Mesh& a = meshes[key.first];
+        const Mesh& b = meshes[key.second];
+        const std::string example = " (e.g. polygon " + std::to_string(value.second.first) + " and polygon " +
+                                    std::to_string(value.second.second) + ")";
+        if (key.first == key.second)
+            diagnostics.warning(a.location, describeMesh(a, key.first) + ": " + std::to_string(value.first) +
+                                                " duplicate coplanar face(s) covering the same area" + example);
+        else
+            diagnostics.warning(b.location, describeMesh(a, key.first) + " and " + describeMesh(b, key.second) + ": " +
+                                                std::to_string(value.first) +
+                                                " duplicate coplanar face(s) covering the same area" + example);
+    }
+}
+
+// The scene's extent for tolerances: the largest coordinate magnitude or the bounding
+// diagonal, whichever is larger (float rounding grows with the coordinates' magnitude).
+double sceneExtent(const std::vector<Mesh>& meshes) {
+    DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    double magnitude = 0.0;
+    for (const Mesh& mesh : meshes)
+        for (const Vec3& p : mesh.positions) {
+            const DVec3 q(p);
+            lo = glm::min(lo, q);
+            hi = glm::max(hi, q);
+            magnitude = std::max({magnitude, std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+        }
+    if (lo.x > hi.x) return 0.0;
+    return std::max(magnitude, glm::length(hi - lo));
+}
+
+}  // namespace
+
+bool validateScene(Scene& scene, Diagnostics& diagnostics) {
+    bool ok = true;
+    for (size_t i = 0; i < scene.materials.size(); ++i) ok &= validateMaterial(scene.materials[i], i, diagnostics);
+    for (size_t i = 0; i < scene.lights.size(); ++i) ok &= validateLight(scene.lights[i], i, diagnostics);
+    for (size_t i = 0; i < scene.cameras.size(); ++i) ok &= validateCamera(scene.cameras[i], i, diagnostics);
+    for (size_t i = 0; i < scene.meshes.size(); ++i)
+        ok &= checkMeshNumbers(scene.meshes[i], i, scene.materials.size(), diagnostics);
+    if (!ok) return false;
+
+    const double min_height = kDegenerateHeightSteps * kFloatStep * sceneExtent(scene.meshes);
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+        Mesh& mesh = scene.meshes[i];
+        dropMismatchedArrays(mesh, i, diagnostics);
+        reportCleanup(mesh, i, cleanMesh(mesh, min_height), diagnostics);
+    }
+    const size_t before = scene.meshes.size();
+    std::erase_if(scene.meshes, [](const Mesh& mesh) { return mesh.triangles.empty(); });
+    if (const size_t removed = before - scene.meshes.size(); removed > 0)
+        diagnostics.warning({scene.source_path, 0, 0}, std::to_string(removed) + " empty mesh(es) removed");
+    if (scene.meshes.empty()) diagnostics.warning({scene.source_path, 0, 0}, "the scene has no surfaces");
+
+    reportDuplicates(scene.meshes, sceneExtent(scene.meshes), diagnostics);
+    return !diagnostics.hasErrors();
+}
+
 }  // namespace radbake

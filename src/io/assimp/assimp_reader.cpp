@@ -1,9 +1,411 @@
-// TEMPORARY skeleton stub: replaced by the Assimp importer.
+// Every scene format Assimp reads, mapped into our Scene. The only file in the project that
+// includes Assimp: nothing of Assimp (types, exceptions, its global logger) leaks out of here.
 #include "io/assimp/assimp_reader.h"
 
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/Logger.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <span>
+#include <string_view>
+
+#include "scene/triangulate.h"
+
 namespace radbake {
-bool readWithAssimp(const std::string& path, Scene&, Diagnostics& diagnostics) {
-    diagnostics.error({path, 0, 0}, "Assimp import is not built yet");
+namespace {
+
+
+// ---------------------------------------------------------------------------------------
+// Assimp's log -> Diagnostics. Assimp logs through one process-wide logger, so imports are
+// serialised (kImportMutex) while ours is installed.
+
+std::mutex kImportMutex;
+
+// Assimp messages often name a line ("... line 12 ..."); lift it into the location so the
+// user's editor can jump there, and keep the message whole.
+SourceLocation locateMessage(const std::string& path, std::string_view message) {
+    SourceLocation where{path, 0, 0};
+    for (std::string_view key : {"line ", "Line ", "line:", "Line:"}) {
+        size_t at = message.find(key);
+        if (at == std::string_view::npos) continue;
+        at += key.size();
+        while (at < message.size() && message[at] == ' ') ++at;
+        int line = 0;
+        size_t digits = 0;
+        while (at + digits < message.size() && digits < 9 && message[at + digits] >= '0' &&
+               message[at + digits] <= '9')
+            line = line * 10 + (message[at + digits++] - '0');
+        if (digits > 0 && line > 0) {
+            where.line = line;
+            break;
+        }
+    }
+    return where;
+}
+
+std::string trimMessage(const char* message) {
+    std::string text = message ? message : "";
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();
+    return text;
+}
+
+class DiagnosticsLogger final : public Assimp::Logger {
+public:
+    DiagnosticsLogger(const std::string& path, Diagnostics& diagnostics)
+        : Assimp::Logger(Assimp::Logger::NORMAL), path_(path), diagnostics_(diagnostics) {}
+
+    bool attachStream(Assimp::LogStream*, unsigned int) override { return false; }
+    bool detachStream(Assimp::LogStream*, unsigned int) override { return false; }
+
+    // Logger errors during an import that still succeeds describe parts Assimp skipped:
+    // warnings for us. A failed import is reported once, from the importer's error string.
+    void OnWarn(const char* message) override { forward(message); }
+    void OnError(const char* message) override { forward(message); }
+    void OnInfo(const char*) override {}
+    void OnDebug(const char*) override {}
+    void OnVerboseDebug(const char*) override {}
+
+    void finish() {
+        if (suppressed_ > 0)
+            diagnostics_.warning({path_, 0, 0}, "Assimp: " + std::to_string(suppressed_) + " more warnings (repeated or further) not shown");
+    }
+
+private:
+    // A broken file can make Assimp warn once per line or per mesh; the first few distinct
+    // messages say what is wrong, the rest are only counted.
+    static constexpr size_t kMaxForwarded = 10;
+
+    void forward(const char* message) {
+        const std::string text = trimMessage(message);
+        if (seen_.size() >= kMaxForwarded || !seen_.insert(text).second) {
+            ++suppressed_;
+            return;
+        }
+        diagnostics_.warning(locateMessage(path_, text), "Assimp: " + text);
+    }
+
+    std::string path_;
+    Diagnostics& diagnostics_;
+    std::set<std::string> seen_;
+    int suppressed_ = 0;
+};
+
+// Installs the logger for one import and always removes it (DefaultLogger::set takes
+// ownership and deletes the previous logger).
+class ScopedLogger {
+public:
+    ScopedLogger(const std::string& path, Diagnostics& diagnostics)
+        : logger_(new DiagnosticsLogger(path, diagnostics)) {
+        Assimp::DefaultLogger::set(logger_);
+    }
+    ~ScopedLogger() {
+        logger_->finish();
+        Assimp::DefaultLogger::set(nullptr);
+    }
+    ScopedLogger(const ScopedLogger&) = delete;
+    ScopedLogger& operator=(const ScopedLogger&) = delete;
+
+private:
+    DiagnosticsLogger* logger_;
+};
+
+// ---------------------------------------------------------------------------------------
+// Conversions.
+
+Vec3 toVec3(const aiVector3D& v) { return {v.x, v.y, v.z}; }
+Vec3 toVec3(const aiColor3D& c) { return {c.r, c.g, c.b}; }
+
+// aiMatrix4x4 is row-major for column vectors; glm is column-major for column vectors.
+Mat4 toMat4(const aiMatrix4x4& m) {
+    return Mat4(Vec4(m.a1, m.b1, m.c1, m.d1), Vec4(m.a2, m.b2, m.c2, m.d2), Vec4(m.a3, m.b3, m.c3, m.d3),
+                Vec4(m.a4, m.b4, m.c4, m.d4));
+}
+
+Mat4 worldFromNode(const aiNode* node) {
+    Mat4 world_from_node(1.0f);
+    for (; node != nullptr; node = node->mParent) world_from_node = toMat4(node->mTransformation) * world_from_node;
+    return world_from_node;
+}
+
+// Lights and cameras are placed by the node of the same name (Assimp's convention).
+Mat4 worldFromNamed(const aiScene& ai, const aiString& name) {
+    const aiNode* node = ai.mRootNode ? ai.mRootNode->FindNode(name) : nullptr;
+    return node ? worldFromNode(node) : Mat4(1.0f);
+}
+
+std::string meshName(const aiNode& node, const aiMesh& mesh) {
+    const std::string node_name = node.mName.C_Str();
+    const std::string mesh_name = mesh.mName.C_Str();
+    if (mesh_name.empty() || mesh_name == node_name) return node_name;
+    if (node_name.empty()) return mesh_name;
+    return node_name + "/" + mesh_name;
+}
+
+Material convertMaterial(const aiMaterial& source, const std::string& path) {
+    Material material;
+    material.location = {path, 0, 0};
+    aiString name;
+    if (source.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) material.name = name.C_Str();
+    aiColor3D color;
+    if (source.Get(AI_MATKEY_COLOR_DIFFUSE, color) == AI_SUCCESS) material.reflectance = toVec3(color);
+    if (source.Get(AI_MATKEY_COLOR_EMISSIVE, color) == AI_SUCCESS) material.emission = toVec3(color);
+    float opacity = 1.0f;
+    if (source.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) material.transparency = 1.0f - opacity;
+    aiString texture;
+    if (source.GetTexture(aiTextureType_DIFFUSE, 0, &texture) == AI_SUCCESS) material.texture = texture.C_Str();
+    return material;
+}
+
+// The smaller full view angle. Assimp 5.2.5's importers store the FULL horizontal angle in
+// mHorizontalFOV whatever its comment says (assimp issues #2256, #5691), and glTF's stores
+// yfov * aspect (issue #4435), which we undo exactly.
+float smallerFieldOfView(const aiCamera& camera, bool gltf, float fallback) {
+    const float aspect = camera.mAspect;
+    const float horizontal = camera.mHorizontalFOV;
+    float vertical = horizontal;
+    if (aspect > 0.0f)
+        vertical = gltf ? horizontal / aspect : 2.0f * std::atan(std::tan(0.5f * horizontal) / aspect);
+    const float fov = std::min(horizontal, vertical);
+    return fov > 0.0f && fov < static_cast<float>(kPi) ? fov : fallback;
+}
+
+bool isGltf(const std::string& path) {
+    std::string extension = path.size() >= 5 ? path.substr(path.size() - 5) : path;
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return extension == ".gltf" || extension.ends_with(".glb");
+}
+
+struct PrimitiveCounts {
+    size_t points = 0;
+    size_t lines = 0;
+};
+
+// One aiMesh instance under one node -> one world-space Mesh, keeping source polygons.
+Mesh convertMesh(const aiMesh& source, const aiNode& node, const Mat4& world_from_object, uint32_t material_offset,
+                 const std::string& path, PrimitiveCounts& dropped) {
+    Mesh mesh;
+    mesh.name = meshName(node, source);
+    mesh.location = {path, 0, 0};
+    mesh.material = material_offset + source.mMaterialIndex;
+
+    mesh.positions.reserve(source.mNumVertices);
+    for (unsigned v = 0; v < source.mNumVertices; ++v)
+        mesh.positions.push_back(Vec3(world_from_object * Vec4(toVec3(source.mVertices[v]), 1.0f)));
+    if (source.HasNormals()) {
+        const Mat3 normal_from_object = glm::transpose(glm::inverse(Mat3(world_from_object)));
+        mesh.normals.reserve(source.mNumVertices);
+        for (unsigned v = 0; v < source.mNumVertices; ++v) {
+            const Vec3 n = normal_from_object * toVec3(source.mNormals[v]);
+            const float length = glm::length(n);
+            mesh.normals.push_back(length > 0.0f ? n / length : n);
+        }
+    }
+    if (source.HasVertexColors(0)) {
+        mesh.vertex_colors.reserve(source.mNumVertices);
+        for (unsigned v = 0; v < source.mNumVertices; ++v) {
+            const aiColor4D& c = source.mColors[0][v];
+            mesh.vertex_colors.push_back({c.r, c.g, c.b});
+        }
+    }
+
+    // A mirroring transform turns counter-clockwise loops clockwise; reverse them so the
+    // front stays where the file put it.
+    const bool mirrored = glm::determinant(Mat3(world_from_object)) < 0.0f;
+    std::vector<uint32_t> loop;
+    for (unsigned f = 0; f < source.mNumFaces; ++f) {
+        const aiFace& face = source.mFaces[f];
+        if (face.mNumIndices == 1) {
+            ++dropped.points;
+            continue;
+        }
+        if (face.mNumIndices == 2) {
+            ++dropped.lines;
+            continue;
+        }
+        if (face.mNumIndices < 3) continue;
+        loop.assign(face.mIndices, face.mIndices + face.mNumIndices);
+        if (mirrored) std::reverse(loop.begin(), loop.end());
+        const size_t before = mesh.triangles.size();
+        // Out-of-range indices and non-finite positions are for validation to drop or report;
+        // the triangulator must not see them, so such a polygon is fanned instead. So is a
+        // polygon with no area at all, so that validation counts its triangles as degenerate.
+        bool clean = true;
+        for (uint32_t index : loop) clean = clean && index < mesh.positions.size() && isFinite(mesh.positions[index]);
+        if (clean && loop.size() > 3)
+            triangulatePolygon(mesh.positions, std::span<const uint32_t>(loop), false, mesh.triangles);
+        if (mesh.triangles.size() == before)
+            for (size_t i = 1; i + 1 < loop.size(); ++i) mesh.triangles.push_back({loop[0], loop[i], loop[i + 1]});
+        mesh.triangle_polygon.resize(mesh.triangles.size(), mesh.polygon_count);
+        ++mesh.polygon_count;
+    }
+    return mesh;
+}
+
+struct Converter {
+    const aiScene& ai;
+    const std::string& path;
+    Scene& scene;
+    Diagnostics& diagnostics;
+    uint32_t material_offset = 0;
+    PrimitiveCounts dropped;
+
+    void visit(const aiNode& node, const Mat4& world_from_parent) {
+        const Mat4 world_from_node = world_from_parent * toMat4(node.mTransformation);
+        for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+            const unsigned index = node.mMeshes[i];
+            if (index >= ai.mNumMeshes || ai.mMeshes[index] == nullptr) continue;
+            const aiMesh& source = *ai.mMeshes[index];
+            Mesh mesh = convertMesh(source, node, world_from_node, material_offset, path, dropped);
+            mesh.solid = isSingleSided(source.mMaterialIndex);
+            if (!mesh.triangles.empty()) scene.meshes.push_back(std::move(mesh));
+        }
+        for (unsigned c = 0; c < node.mNumChildren; ++c)
+            if (node.mChildren[c]) visit(*node.mChildren[c], world_from_node);
+    }
+
+    // Single-sided (VRML `solid`) only where the file says so: glTF materials are single-sided
+    // unless marked doubleSided; OBJ, PLY and most others promise nothing, so both sides
+    // count, which never loses light.
+    bool isSingleSided(unsigned material) const {
+        if (material >= ai.mNumMaterials || ai.mMaterials[material] == nullptr) return false;
+        int two_sided = 0;
+        if (ai.mMaterials[material]->Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) return two_sided == 0;
+        return isGltf(path);
+    }
+
+    void convertMaterials() {
+        material_offset = static_cast<uint32_t>(scene.materials.size());
+        for (unsigned m = 0; m < ai.mNumMaterials; ++m)
+            scene.materials.push_back(ai.mMaterials[m] ? convertMaterial(*ai.mMaterials[m], path) : Material{});
+        // A mesh must always have a material to point at.
+        if (ai.mNumMaterials == 0) {
+            Material fallback;
+            fallback.name = "default";
+            fallback.location = {path, 0, 0};
+            scene.materials.push_back(fallback);
+        }
+    }
+
+    void convertLights() {
+        size_t skipped = 0;
+        for (unsigned l = 0; l < ai.mNumLights; ++l) {
+            const aiLight* source = ai.mLights[l];
+            if (!source) continue;
+            Light light;
+            switch (source->mType) {
+                case aiLightSource_POINT: light.type = LightType::Point; break;
+                case aiLightSource_SPOT: light.type = LightType::Spot; break;
+                case aiLightSource_DIRECTIONAL: light.type = LightType::Directional; break;
+                default: ++skipped; continue;  // ambient and area lights have no punctual meaning
+            }
+            const Mat4 world_from_light = worldFromNamed(ai, source->mName);
+            light.position = Vec3(world_from_light * Vec4(toVec3(source->mPosition), 1.0f));
+            const Vec3 direction = Mat3(world_from_light) * toVec3(source->mDirection);
+            const float length = glm::length(direction);
+            light.direction = length > 0.0f ? direction / length : Vec3(0.0f, 0.0f, -1.0f);
+            // Assimp folds intensity into the colour; split it back so colour stays in [0, 1].
+            const Vec3 color = toVec3(source->mColorDiffuse);
+            const float intensity = std::max(color.x, std::max(color.y, color.z));
+            light.intensity = intensity;
+            light.color = intensity > 0.0f ? color / intensity : Vec3(1.0f);
+            light.attenuation = {source->mAttenuationConstant, source->mAttenuationLinear,
+                                 source->mAttenuationQuadratic};
+            // Assimp gives lights no range: they reach everywhere.
+            light.radius = std::numeric_limits<float>::infinity();
+            if (light.type == LightType::Spot) {
+                // Taken as half-angles from the axis, as glTF (and VRML) define them.
+                light.beam_width = source->mAngleInnerCone;
+                light.cut_off_angle = source->mAngleOuterCone;
+            }
+            light.location = {path, 0, 0};
+            scene.lights.push_back(light);
+        }
+        if (skipped > 0)
+            diagnostics.warning({path, 0, 0}, std::to_string(skipped) + " ambient/area light(s) ignored");
+    }
+
+    void convertCameras() {
+        const bool gltf = isGltf(path);
+        for (unsigned c = 0; c < ai.mNumCameras; ++c) {
+            const aiCamera* source = ai.mCameras[c];
+            if (!source) continue;
+            const Mat4 world_from_camera = worldFromNamed(ai, source->mName);
+            Camera camera;
+            camera.name = source->mName.C_Str();
+            camera.location = {path, 0, 0};
+            // Assimp 5.2.5's glTF importer copies the node's translation into mPosition as
+            // well, so the node transform would apply it twice; glTF cameras sit at their node.
+            const Vec3 p_camera = gltf ? Vec3(0.0f) : toVec3(source->mPosition);
+            camera.position = Vec3(world_from_camera * Vec4(p_camera, 1.0f));
+            const Vec3 look = Mat3(world_from_camera) * toVec3(source->mLookAt);
+            const Vec3 up = Mat3(world_from_camera) * toVec3(source->mUp);
+            const Vec3 right = glm::cross(look, up);
+            if (glm::length(right) > 0.0f && glm::length(look) > 0.0f) {
+                const Vec3 z = -glm::normalize(look);
+                const Vec3 x = glm::normalize(right);
+                camera.orientation = glm::quat_cast(Mat3(x, glm::cross(z, x), z));
+            }
+            camera.field_of_view = smallerFieldOfView(*source, gltf, camera.field_of_view);
+            scene.cameras.push_back(camera);
+        }
+    }
+
+    void run() {
+        convertMaterials();
+        if (ai.mRootNode) visit(*ai.mRootNode, Mat4(1.0f));
+        if (dropped.points > 0)
+            diagnostics.warning({path, 0, 0}, std::to_string(dropped.points) + " point primitive(s) ignored");
+        if (dropped.lines > 0)
+            diagnostics.warning({path, 0, 0}, std::to_string(dropped.lines) + " line primitive(s) ignored");
+        convertLights();
+        convertCameras();
+    }
+};
+
+bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics) {
+    ScopedLogger logger(path, diagnostics);
+    Assimp::Importer importer;
+    // Bone-only files would otherwise gain made-up skeleton meshes.
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
+    // No Triangulate and no GenNormals: they would hide source polygons and input problems.
+    // No FindInvalidData either: it silently deletes a mesh with a NaN position, which
+    // validation must report as a located error instead (it also drops bad normals itself).
+    const unsigned flags = aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
+    const aiScene* ai = importer.ReadFile(path, flags);
+    if (ai == nullptr) {
+        std::string message = trimMessage(importer.GetErrorString());
+        if (message.empty()) message = "unknown error";
+        diagnostics.error(locateMessage(path, message), "cannot read scene with Assimp: " + message);
+        return false;
+    }
+    if (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) diagnostics.warning({path, 0, 0}, "Assimp: the scene is incomplete");
+    Converter converter{*ai, path, scene, diagnostics, 0, {}};
+    converter.run();
+    return true;
+}
+
+}  // namespace
+
+bool readWithAssimp(const std::string& path, Scene& scene, Diagnostics& diagnostics) {
+    // The module boundary: neither Assimp's exceptions nor ours (bad_alloc) get out.
+    try {
+        std::lock_guard<std::mutex> lock(kImportMutex);
+        return importLocked(path, scene, diagnostics);
+    } catch (const std::exception& e) {
+        diagnostics.error({path, 0, 0}, std::string("cannot read scene with Assimp: ") + e.what());
+    } catch (...) {
+        diagnostics.error({path, 0, 0}, "cannot read scene with Assimp: unknown exception");
+    }
     return false;
 }
+
 }  // namespace radbake

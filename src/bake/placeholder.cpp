@@ -1,1 +1,0 @@
-// Stage placeholder until the stage's first source lands.

@@ -1,0 +1,285 @@
+// `radbake bake SCENE`: import, solve, bake per-vertex light, write glb/ply/probes/stats.
+// Every output goes through an OutputTransaction: on any error nothing new is left in OUTDIR.
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "bake/vertex_bake.h"
+#include "cli/commands.h"
+#include "export/gltf_writer.h"
+#include "export/output_transaction.h"
+#include "export/ply_writer.h"
+#include "export/probes.h"
+#include "export/stats_json.h"
+#include "geometry/parts.h"
+#include "io/import.h"
+#include "radiosity/parallel.h"
+#include "radiosity/solution.h"
+
+namespace radbake::cli {
+namespace {
+
+struct BakeArgs {
+    std::string scene;
+    std::string out_dir;  // empty: baked/<scene name>
+    std::string quality_name = "medium";
+    std::string visibility_name = "exact";
+    int threads = 0;
+    std::string probes;
+    ImportOptions import;
+    bool quiet = false;
+    // Raw knobs; applied over the preset only when given on the command line.
+    double error_threshold = 0.0;
+    double min_area = 0.0;
+    double tolerance = 0.0;
+    int max_iterations = 0;
+    CLI::Option* error_threshold_option = nullptr;
+    CLI::Option* min_area_option = nullptr;
+    CLI::Option* tolerance_option = nullptr;
+    CLI::Option* max_iterations_option = nullptr;
+};
+
+const std::vector<std::pair<std::string, Quality>> kQualities = {
+    {"draft", Quality::Draft}, {"medium", Quality::Medium}, {"high", Quality::High}, {"reference", Quality::Reference}};
+const std::vector<std::pair<std::string, VisibilityMode>> kVisibilities = {
+    {"rays", VisibilityMode::Rays}, {"aabb", VisibilityMode::Aabb}, {"obb", VisibilityMode::Obb},
+    {"exact", VisibilityMode::Exact}};
+
+template <typename Enum>
+std::vector<std::string> namesOf(const std::vector<std::pair<std::string, Enum>>& table) {
+    std::vector<std::string> names;
+    for (const auto& entry : table) names.push_back(entry.first);
+    return names;
+}
+
+// `name` has passed CLI::IsMember, so it is in the table.
+template <typename Enum>
+Enum lookup(const std::vector<std::pair<std::string, Enum>>& table, const std::string& name) {
+    for (const auto& [key, value] : table)
+        if (key == name) return value;
+    return table.front().second;
+}
+
+const std::string kGenerator = std::string("radbake ") + RADBAKE_VERSION;
+
+SolverOptions solverOptions(const BakeArgs& args) {
+    const Quality quality = lookup(kQualities, args.quality_name);
+    SolverOptions options = SolverOptions::forQuality(quality);
+    options.quality = quality;
+    options.visibility = lookup(kVisibilities, args.visibility_name);
+    options.threads = args.threads;
+    if (args.error_threshold_option->count()) options.error_threshold = args.error_threshold;
+    if (args.min_area_option->count()) options.min_element_area = args.min_area;
+    if (args.tolerance_option->count()) options.iteration_tolerance = args.tolerance;
+    if (args.max_iterations_option->count()) options.max_iterations = args.max_iterations;
+    return options;
+}
+
+int threadsUsed(int requested) {
+    if (requested > 0) return requested;
+    const unsigned cores = std::thread::hardware_concurrency();
+    return cores > 0 ? static_cast<int>(cores) : 1;
+}
+
+// Diagnostics go to stderr; notes only when the run is interactive (not quiet, a terminal).
+void routeDiagnostics(Diagnostics& diagnostics, Progress& progress) {
+    diagnostics.sink = [&progress](const Diagnostic& d) {
+        if (d.severity == Severity::Note && !progress.shown()) return;
+        progress.printLine(formatDiagnostic(d));
+    };
+}
+
+// Each probe writes its own slot, so probes.csv does not depend on the thread count.
+std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Probe>& probes, float unit_scale,
+                                  Progress& progress) {
+    std::vector<DVec3> irradiance(probes.size());
+    std::atomic<size_t> done{0};
+    ParallelRunner runner(solution.options.threads, solution.options.pin_threads);
+    runner.forEach(probes.size(), 4, [&](size_t i) {
+        irradiance[i] = probeIrradiance(solution, probes[i].position * static_cast<double>(unit_scale), probes[i].normal);
+        progress.update(static_cast<double>(++done) / static_cast<double>(probes.size()));
+    });
+    return irradiance;
+}
+
+// Everything after the import; false after reporting. Outputs are only staged here.
+bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Probe>& probes,
+                  OutputTransaction& transaction, Progress& progress, Diagnostics& diagnostics,
+                  BakeReport& report) {
+    report.options = solverOptions(args);
+
+    progress.beginPhase("parts");
+    const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
+    if (diagnostics.hasErrors()) return false;
+
+    progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
+    std::optional<Solution> solution = solveRadiosity(scene, parts, report.options, progress, diagnostics);
+    if (!solution || diagnostics.hasErrors()) return false;
+    report.solve = solution->stats;
+
+    progress.beginPhase("vertices");
+    const VertexBake bake = bakeVertices(scene, *solution);
+
+    std::vector<DVec3> irradiance;
+    if (!args.probes.empty()) {
+        progress.beginPhase("probes");
+        irradiance = evaluateProbes(*solution, probes, args.import.unit_scale, progress);
+    }
+
+    progress.beginPhase("write");
+    if (!writeGlb(transaction.stage(scene.name + ".glb"), scene, bake, GltfOptions{kGenerator}, diagnostics))
+        return false;
+    if (!writePly(transaction.stage(scene.name + ".ply"), scene, bake, PlyOptions{kGenerator}, diagnostics))
+        return false;
+    if (args.probes.empty()) {
+        transaction.retire("probes.csv");  // an older one would not match this bake
+    } else if (!writeProbesCsv(transaction.stage("probes.csv"), probes, irradiance, diagnostics)) {
+        return false;
+    }
+    progress.endPhase();
+
+    // stats.json last, so that its wall time covers every other output.
+    report.phases = progress.phaseSeconds();
+    report.seconds = progress.totalSeconds();
+    report.peak_rss_mb = peakRssMegabytes();
+    report.warnings = diagnostics.warningCount();
+    return writeStatsJson(transaction.stage("stats.json"), report, diagnostics);
+}
+
+int runBake(const BakeArgs& args) {
+    // One limit for every parallel phase (solver, vertices, probes): --threads N means N.
+    const int threads = threadsUsed(args.threads);
+    tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+
+    Progress progress(!args.quiet && isatty(STDERR_FILENO));
+    Diagnostics diagnostics;
+    routeDiagnostics(diagnostics, progress);
+
+    progress.beginPhase("import");
+    std::optional<Scene> scene = importScene(args.scene, args.import, diagnostics);
+    if (!scene) return kExitInputError;
+    if (std::none_of(scene->meshes.begin(), scene->meshes.end(), [](const Mesh& m) { return !m.triangles.empty(); })) {
+        diagnostics.error({args.scene, 0, 0}, "nothing to bake: the scene has no surfaces");
+        return kExitInputError;
+    }
+    std::vector<Probe> probes;
+    if (!args.probes.empty()) {
+        std::optional<std::vector<Probe>> read = readProbes(args.probes, diagnostics);
+        if (!read) return kExitInputError;
+        probes = std::move(*read);
+        if (probes.empty()) diagnostics.warning({args.probes, 0, 0}, "probe file holds no probes");
+    }
+
+    const std::filesystem::path out_dir =
+        args.out_dir.empty() ? std::filesystem::path("baked") / scene->name : std::filesystem::path(args.out_dir);
+    OutputTransaction transaction(out_dir);
+    if (!transaction.begin(diagnostics)) return kExitInputError;
+    cleanUpStagingOnSignals();
+
+    BakeReport report;
+    report.generator = kGenerator;
+    report.scene = args.scene;
+    report.threads = threads;
+    report.meshes = scene->meshes.size();
+    for (const Mesh& mesh : scene->meshes) {
+        report.vertices += mesh.positions.size();
+        report.triangles += mesh.triangles.size();
+    }
+    report.probes = probes.size();
+
+    if (!bakeAndStage(args, *scene, probes, transaction, progress, diagnostics, report) || diagnostics.hasErrors())
+        return kExitInputError;  // the transaction's destructor removes the staged files
+    if (!transaction.commit(diagnostics)) return kExitInputError;
+
+    const SolveStats& s = report.solve;
+    std::printf("radbake: baked %s in %.2f s: %zu elements, %zu links (%zu occluded), %d iterations%s, "
+                "%d warning%s -> %s\n",
+                args.scene.c_str(), report.seconds, s.elements, s.links, s.occluded_links, s.iterations,
+                s.converged ? "" : " (not converged)", diagnostics.warningCount(),
+                diagnostics.warningCount() == 1 ? "" : "s", transaction.outDir().string().c_str());
+    return kExitOk;
+}
+
+// "draft 0.1, medium 0.01, ...": the preset values of one knob, for --help.
+template <typename Field>
+std::string presetValues(Field field) {
+    std::string out;
+    for (Quality q : {Quality::Draft, Quality::Medium, Quality::High, Quality::Reference}) {
+        const SolverOptions preset = SolverOptions::forQuality(q);
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, "%s%s %g", out.empty() ? "" : ", ", toString(q),
+                      static_cast<double>(preset.*field));
+        out += buffer;
+    }
+    return "default: from --quality (" + out + ")";
+}
+
+}  // namespace
+
+void addBakeCommand(CLI::App& app, int& result) {
+    auto args = std::make_shared<BakeArgs>();
+    CLI::App* cmd = app.add_subcommand("bake", "Solve a scene's light and write baked meshes, probes and stats");
+    cmd->add_option("scene", args->scene, "Scene file (VRML97, VRML 1.0, or any format Assimp reads)")->required();
+    cmd->add_option("-o,--output", args->out_dir, "Output directory")->default_str("baked/<scene name>/");
+
+    cmd->add_option("--quality", args->quality_name, "Preset for the knobs below")
+        ->check(CLI::IsMember(namesOf(kQualities)))
+        ->capture_default_str();
+    cmd->add_option("--visibility", args->visibility_name,
+                    "Occlusion handling: rays (no shafts), aabb (shaft culling), obb (OBB occlusion test), "
+                    "exact (conservative occlusion test)")
+        ->check(CLI::IsMember(namesOf(kVisibilities)))
+        ->capture_default_str();
+    cmd->add_option("--threads", args->threads, "Worker threads for every phase; 0: all cores")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_option("--probes", args->probes,
+                    "Probe file: one 'x y z nx ny nz' a line (scene units); writes probes.csv with H in W/m^2");
+    cmd->add_option("--unit-scale", args->import.unit_scale, "Metres per scene unit")->capture_default_str();
+    cmd->add_option("--emission-scale", args->import.emission_scale, "Multiplies every emitted radiance")
+        ->capture_default_str();
+
+    args->error_threshold_option =
+        cmd->add_option("--error-threshold", args->error_threshold,
+                        "Refine a link while the power it may misplace exceeds this fraction of the emitted power; " +
+                            presetValues(&SolverOptions::error_threshold))
+            ->check(CLI::PositiveNumber);
+    args->min_area_option =
+        cmd->add_option("--min-area", args->min_area,
+                        "Smallest element area, relative to the scene's total area; " +
+                            presetValues(&SolverOptions::min_element_area))
+            ->check(CLI::PositiveNumber);
+    args->tolerance_option =
+        cmd->add_option("--tolerance", args->tolerance,
+                        "Stop iterating when the residual, relative to the emitted light, is below this; " +
+                            presetValues(&SolverOptions::iteration_tolerance))
+            ->check(CLI::PositiveNumber);
+    args->max_iterations_option =
+        cmd->add_option("--max-iterations", args->max_iterations,
+                        "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
+            ->check(CLI::PositiveNumber);
+
+    cmd->add_flag("--strict", args->import.strict, "Unknown VRML nodes and fields are errors");
+    cmd->add_flag("-q,--quiet", args->quiet, "Print only warnings, errors and a one-line summary");
+    cmd->callback([args, &result] {
+        // The program's outer boundary: nothing escapes main; unwinding abandons the outputs.
+        try {
+            result = runBake(*args);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "error: %s\n", e.what());
+            result = kExitInputError;
+        }
+    });
+}
+
+}  // namespace radbake::cli

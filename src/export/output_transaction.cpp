@@ -1,0 +1,236 @@
+#include "export/output_transaction.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <system_error>
+
+namespace radbake {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// "baked/x/" and "baked/x/." both name the directory x; the staging directory goes beside it.
+fs::path normalisedDir(const fs::path& dir) {
+    std::error_code ec;
+    fs::path p = fs::absolute(dir, ec);
+    if (ec) p = dir;
+    p = p.lexically_normal();
+    if (p.has_parent_path() && p.filename().empty()) p = p.parent_path();
+    return p;
+}
+
+SourceLocation at(const fs::path& p) { return {p.string(), 0, 0}; }
+
+// What the signal handler removes, kept in plain static storage: a handler may only call
+// async-signal-safe functions (unlink, rmdir), so the paths are laid out in advance.
+// Slot 0 is the staging directory; the others are files that may exist inside it.
+constexpr int kMaxSignalPaths = 64;
+constexpr size_t kMaxPathBytes = 4096;
+char g_signal_paths[kMaxSignalPaths][kMaxPathBytes];
+std::atomic<int> g_signal_path_count{0};
+
+void registerSignalPath(const fs::path& path) {
+    const int slot = g_signal_path_count.load();
+    const std::string text = path.string();
+    if (slot >= kMaxSignalPaths || text.size() >= kMaxPathBytes) return;
+    std::memcpy(g_signal_paths[slot], text.c_str(), text.size() + 1);
+    g_signal_path_count.store(slot + 1);  // published only once the text is in place
+}
+
+void removeStagingOnSignal(int signal_number) {
+    const int count = g_signal_path_count.load();
+    for (int i = count - 1; i >= 1; --i) unlink(g_signal_paths[i]);
+    if (count > 0) rmdir(g_signal_paths[0]);
+    ::signal(signal_number, SIG_DFL);
+    ::raise(signal_number);
+}
+
+}  // namespace
+
+void cleanUpStagingOnSignals() {
+    for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::signal(signal_number, removeStagingOnSignal);
+}
+
+OutputTransaction::OutputTransaction(fs::path out_dir) : out_dir_(normalisedDir(out_dir)) {}
+
+OutputTransaction::~OutputTransaction() {
+    if (!committed_) abandon();
+}
+
+bool OutputTransaction::begin(Diagnostics& diagnostics) {
+    std::error_code ec;
+    if (fs::exists(out_dir_, ec) && !fs::is_directory(out_dir_, ec)) {
+        diagnostics.error(at(out_dir_), "output path exists and is not a directory");
+        return false;
+    }
+    const fs::path parent = out_dir_.parent_path();
+    if (out_dir_.filename().empty() || parent.empty()) {
+        diagnostics.error(at(out_dir_), "cannot use this directory for output");
+        return false;
+    }
+    // Remember which parents are new, so that a failed bake leaves no empty directories behind.
+    std::vector<fs::path> missing;
+    for (fs::path p = parent; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    fs::create_directories(parent, ec);
+    if (ec) {
+        diagnostics.error(at(parent), "cannot create output directory: " + ec.message());
+        return false;
+    }
+    created_dirs_.assign(missing.rbegin(), missing.rend());
+
+    // Inside an existing OUTDIR (same file system, nothing written outside it); beside a new
+    // one, so that the whole directory can appear in one rename.
+    const bool exists = fs::is_directory(out_dir_, ec);
+    const fs::path staging_parent = exists ? out_dir_ : parent;
+    std::string pattern =
+        (staging_parent / ((exists ? std::string() : "." + out_dir_.filename().string()) + ".radbake-tmp-XXXXXX"))
+            .string();
+    if (!mkdtemp(pattern.data())) {
+        diagnostics.error(at(staging_parent), std::string("cannot create a staging directory: ") + std::strerror(errno));
+        abandon();
+        return false;
+    }
+    staging_dir_ = pattern;
+    g_signal_path_count.store(0);
+    registerSignalPath(staging_dir_);
+    return true;
+}
+
+fs::path OutputTransaction::stage(std::string_view file_name) {
+    staged_.emplace_back(file_name);
+    registerSignalPath(staging_dir_ / fs::path(file_name));
+    registerSignalPath(staging_dir_ / (".old-" + std::string(file_name)));
+    return staging_dir_ / fs::path(file_name);
+}
+
+void OutputTransaction::retire(std::string_view file_name) {
+    retired_.emplace_back(file_name);
+    registerSignalPath(staging_dir_ / (".old-" + std::string(file_name)));
+}
+
+bool OutputTransaction::commit(Diagnostics& diagnostics) {
+    if (staging_dir_.empty()) {
+        diagnostics.error(at(out_dir_), "internal: output transaction committed before it began");
+        return false;
+    }
+    std::error_code ec;
+    for (const std::string& name : staged_) {
+        if (!fs::is_regular_file(staging_dir_ / name, ec)) {
+            diagnostics.error(at(staging_dir_ / name), "internal: staged output was never written");
+            return false;
+        }
+    }
+    if (!fs::exists(out_dir_, ec)) {
+        // A new OUTDIR appears in one atomic step, complete.
+        fs::rename(staging_dir_, out_dir_, ec);
+        if (ec) {
+            diagnostics.error(at(out_dir_), "cannot move outputs into place: " + ec.message());
+            return false;
+        }
+        g_signal_path_count.store(0);
+        committed_ = true;
+        staging_dir_.clear();
+        return true;
+    }
+    if (!commitIntoExisting(diagnostics)) return false;
+    g_signal_path_count.store(0);
+    committed_ = true;
+    fs::remove_all(staging_dir_, ec);  // only backups of the replaced files remain there
+    staging_dir_.clear();
+    return true;
+}
+
+bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
+    // Each older file is first moved aside into the staging directory, so that a failure
+    // half-way can put every one of them back.
+    struct Step {
+        std::string name;
+        bool had_old = false;
+        bool retired = false;  // no new file: the old one is only moved aside
+    };
+    std::vector<Step> done;
+    std::error_code ec;
+    auto backupOf = [&](const std::string& name) { return staging_dir_ / (".old-" + name); };
+    auto rollBack = [&] {
+        std::error_code ignored;
+        for (auto it = done.rbegin(); it != done.rend(); ++it) {
+            const fs::path target = out_dir_ / it->name;
+            if (it->retired || fs::exists(staging_dir_ / it->name, ignored)) {
+                // The new file never arrived; only the old one may need restoring.
+            } else {
+                fs::rename(target, staging_dir_ / it->name, ignored);
+            }
+            if (it->had_old) fs::rename(backupOf(it->name), target, ignored);
+        }
+    };
+    for (const std::string& name : retired_) {
+        const fs::path target = out_dir_ / name;
+        if (!fs::is_regular_file(target, ec)) continue;
+        fs::rename(target, backupOf(name), ec);
+        if (ec) {
+            diagnostics.error(at(target), "cannot remove older output: " + ec.message());
+            rollBack();
+            return false;
+        }
+        done.push_back({name, true, true});
+    }
+    for (const std::string& name : staged_) {
+        const fs::path target = out_dir_ / name;
+        Step step{name, fs::exists(target, ec)};
+        if (step.had_old) {
+            fs::rename(target, backupOf(name), ec);
+            if (ec) {
+                diagnostics.error(at(target), "cannot replace older output: " + ec.message());
+                rollBack();
+                return false;
+            }
+        }
+        done.push_back(step);
+        fs::rename(staging_dir_ / name, target, ec);
+        if (ec) {
+            diagnostics.error(at(target), "cannot move output into place: " + ec.message());
+            rollBack();
+            return false;
+        }
+    }
+    return true;
+}
+
+void OutputTransaction::abandon() {
+    if (!staging_dir_.empty()) g_signal_path_count.store(0);
+    std::error_code ec;
+    if (!staging_dir_.empty()) fs::remove_all(staging_dir_, ec);
+    staging_dir_.clear();
+    // Deepest first; fs::remove leaves a directory someone else has put files into.
+    for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) fs::remove(*it, ec);
+    created_dirs_.clear();
+}
+
+bool writeFileBytes(const fs::path& path, std::string_view bytes, Diagnostics& diagnostics) {
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    if (!file) {
+        diagnostics.error(at(path), std::string("cannot create file: ") + std::strerror(errno));
+        return false;
+    }
+    const size_t written = bytes.empty() ? 0 : std::fwrite(bytes.data(), 1, bytes.size(), file);
+    const bool write_ok = written == bytes.size() && std::fflush(file) == 0;
+    const int saved_errno = errno;
+    const bool close_ok = std::fclose(file) == 0;
+    if (!write_ok || !close_ok) {
+        diagnostics.error(at(path), std::string("cannot write file: ") + std::strerror(write_ok ? errno : saved_errno));
+        return false;
+    }
+    return true;
+}
+
+}  // namespace radbake

@@ -1,0 +1,30 @@
+#pragma once
+// Binary little-endian PLY of all the scene's meshes merged into one vertex list.
+//
+//   element vertex N: float x y z, float nx ny nz, float red green blue
+//   element face F:   list uchar int vertex_indices (triangles)
+//
+// red/green/blue hold the baked value (by default H / pi, DESIGN.md section 2) as linear
+// floats that may exceed 1; these are the names MeshLab, CloudCompare and Blender read as
+// vertex colour (they clamp for display). A header comment repeats this for readers.
+#include <filesystem>
+#include <string>
+
+#include "bake/vertex_bake.h"
+#include "core/diagnostics.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+struct PlyOptions {
+    std::string generator = "radbake";  // written as a header comment
+};
+
+// The whole .ply file as bytes; empty after reporting an error.
+std::string encodePly(const Scene& scene, const VertexBake& bake, const PlyOptions& options,
+                      Diagnostics& diagnostics);
+
+bool writePly(const std::filesystem::path& path, const Scene& scene, const VertexBake& bake,
+              const PlyOptions& options, Diagnostics& diagnostics);
+
+}  // namespace radbake

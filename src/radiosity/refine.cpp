@@ -1,0 +1,308 @@
+#include "radiosity/refine.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/parts.h"
+#include "radiosity/elements.h"
+#include "radiosity/form_factor.h"
+#include "radiosity/punctual_lights.h"
+#include "visibility/occlusion.h"
+#include "visibility/ray_caster.h"
+
+namespace radbake {
+namespace {
+
+// Elements deeper than this are never split (a guard; min_area stops long before).
+constexpr uint32_t kMaxDepth = 30;
+
+enum class LinkState : uint8_t { None, Visible, Partial, Occluded };
+
+struct Evaluation {
+    FormFactorEstimate ff;
+    LinkState state = LinkState::None;
+    double visibility = 1.0;        // Rays mode: from rays at evaluation
+    std::vector<uint32_t> candidates;
+    size_t rays = 0;
+    bool shaft = false;
+};
+
+QuadratureOptions quadratureOptions(const SolverOptions& options) {
+    QuadratureOptions q;
+    q.order = options.quadrature_order;
+    q.near_ratio = options.quadrature_near_ratio;
+    q.max_depth = options.quadrature_max_depth;
+    return q;
+}
+
+OcclusionTest occlusionTest(VisibilityMode mode) {
+    switch (mode) {
+        case VisibilityMode::Obb: return OcclusionTest::Obb;
+        case VisibilityMode::Exact: return OcclusionTest::Exact;
+        default: return OcclusionTest::None;
+    }
+}
+
+Evaluation evaluate(const RefineState& state, const PendingLink& link) {
+    const Solution& s = state.solution;
+    const Element& r = s.elements[link.receiver];
+    const Element& e = s.elements[link.source];
+    const PolygonView receiver = polygonOf(s, r);
+    const PolygonView source = polygonOf(s, e);
+    Evaluation out;
+    out.ff = polygonFormFactor(receiver, source, quadratureOptions(state.options));
+    if (!(out.ff.form_factor > 0.0)) return out;
+    if (state.options.visibility == VisibilityMode::Rays) {
+        // The baseline without shafts: rays against the whole scene on every candidate link.
+        out.visibility = s.rays->visibleFraction(source.vertices, receiver.vertices,
+                                                 state.options.visibility_samples, &out.rays);
+        out.state = out.visibility <= 0.0   ? LinkState::Occluded
+                    : out.visibility >= 1.0 ? LinkState::Visible
+                                            : LinkState::Partial;
+        return out;
+    }
+    if (link.candidates == kNoList) {
+        out.state = LinkState::Visible;  // the parent's shaft held no potential occluder
+        return out;
+    }
+    std::vector<uint32_t> excluded = state.root_excluded[r.root];
+    const auto& more = state.root_excluded[e.root];
+    excluded.insert(excluded.end(), more.begin(), more.end());
+    ShaftQuery query;
+    query.source = source.vertices;
+    query.receiver = receiver.vertices;
+    query.test = occlusionTest(state.options.visibility);
+    query.excluded = excluded;
+    ShaftResult result;
+    classifyLink(state.parts, state.candidate_pool[link.candidates], query, result);
+    out.shaft = true;
+    if (result.occluded) {
+        out.state = LinkState::Occluded;
+    } else if (result.candidates.empty()) {
+        out.state = LinkState::Visible;
+    } else {
+        out.state = LinkState::Partial;
+        out.candidates = std::move(result.candidates);
+    }
+    return out;
+}
+
+bool splittable(const RefineState& state, const Element& e) {
+    return e.area > state.min_area && e.depth < kMaxDepth;
+}
+
+// The power the link may misplace, rho_R (F_max - F_min) B_S A_R, with the receiver's area
+// taken to the power area_exponent relative to the scene's (1: the paper's oracle; below 1
+// favours local accuracy on small elements; see SolverOptions).
+double linkError(const RefineState& state, const Element& receiver, const Element& source, double spread) {
+    const double total = state.solution.total_area;
+    const double area = state.options.area_exponent == 1.0
+                            ? receiver.area
+                            : total * std::pow(receiver.area / total, state.options.area_exponent);
+    return maxChannel(receiver.reflectance) * spread * maxChannel(source.radiosity) * area;
+}
+
+}  // namespace
+
+void RefineState::rescaleThreshold() {
+    // Later rounds compare against the power leaving the surfaces (emitted and reflected):
+    // at rho = 0.99 that is 100 times the emitted power, and so is every link's error.
+    double power = 0.0;
+    for (uint32_t i = 0; i < solution.root_count; ++i)
+        power += solution.elements[i].area * maxChannel(solution.elements[i].radiosity);
+    if (power > 0.0) threshold = options.error_threshold * power;
+}
+
+RefineState makeRefineState(const Scene& scene, const PartSet& parts, const SolverOptions& options,
+                            ParallelRunner& runner, Solution& solution) {
+    RefineState state{scene, parts, options, runner, solution, {}, {}, {}, {}, 0.0, 0.0};
+    state.candidate_pool.push_back(allParts(parts));
+    state.root_excluded.resize(solution.root_count);
+    for (uint32_t i = 0; i < solution.root_count; ++i) {
+        const Element& e = solution.elements[i];
+        state.root_excluded[i] = partsOfPolygon(parts, e.mesh, e.polygon);
+    }
+    state.min_area = options.min_element_area * solution.total_area;
+    return state;
+}
+
+void computeDirectLight(RefineState& state) {
+    Solution& s = state.solution;
+    const Scene& scene = state.scene;
+    // Own emission first (every element, cheap).
+    auto own = [&](const Element& e) {
+        const uint32_t material = scene.meshes[e.mesh].material;
+        return material < scene.materials.size() ? kPi * DVec3(scene.materials[material].emission) : DVec3(0.0);
+    };
+    const bool lights = !scene.lights.empty();
+    for (int pass = 0; pass < 64; ++pass) {
+        state.direct_done.resize(s.elements.size(), 0);
+        std::vector<uint32_t> todo;
+        for (uint32_t i = 0; i < s.elements.size(); ++i)
+            if (!state.direct_done[i]) todo.push_back(i);
+        if (todo.empty()) break;
+        std::vector<DVec3> mean(todo.size(), DVec3(0.0)), spread(todo.size(), DVec3(0.0));
+        std::vector<size_t> rays(todo.size(), 0);
+        if (lights) {
+            state.runner.forEach(todo.size(), 16, [&](size_t k) {
+                const Element& e = s.elements[todo[k]];
+                const PolygonView poly = polygonOf(s, e);
+                // 3 x 3 (odd): a symmetric 2 x 2 pattern can hide a light straight above.
+                const auto points = stratifiedPolygonPoints(poly.vertices, 3);
+                DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
+                for (const DVec3& p : points) {
+                    const DVec3 h = punctualIrradiance(scene.lights, s.rays.get(), p, e.normal, &rays[k]);
+                    sum += h;
+                    lo = glm::min(lo, h);
+                    hi = glm::max(hi, h);
+                }
+                mean[k] = points.empty() ? DVec3(0.0) : sum / static_cast<double>(points.size());
+                spread[k] = points.empty() ? DVec3(0.0) : hi - lo;
+            });
+        }
+        bool split_any = false;
+        for (size_t k = 0; k < todo.size(); ++k) {
+            const uint32_t i = todo[k];
+            s.stats.rays += rays[k];
+            Element& e = s.elements[i];
+            e.emission = own(e) + e.reflectance * mean[k];
+            state.direct_done[i] = 1;
+            // Refine where the direct light varies (threshold known after the first pass).
+            if (state.threshold > 0.0 && e.isLeaf() && splittable(state, e) &&
+                maxChannel(e.reflectance * spread[k]) * e.area > state.threshold) {
+                ensureChildren(s, i);
+                split_any = true;
+            }
+        }
+        if (pass == 0 && state.threshold == 0.0) {
+            double power = 0.0;
+            for (uint32_t i = 0; i < s.root_count; ++i) power += s.elements[i].area * maxChannel(s.elements[i].emission);
+            state.threshold = state.options.error_threshold * power;
+            // Re-examine the roots' direct light with the threshold now known.
+            if (lights && state.threshold > 0.0) {
+                for (uint32_t i = 0; i < s.root_count; ++i) state.direct_done[i] = 0;
+                continue;
+            }
+        }
+        if (!split_any && pass > 0) break;
+    }
+}
+
+std::vector<PendingLink> initialLinks(const RefineState& state) {
+    const Solution& s = state.solution;
+    std::vector<PendingLink> links;
+    for (uint32_t r = 0; r < s.root_count; ++r) {
+        const PolygonView receiver = polygonOf(s, s.elements[r]);
+        for (uint32_t e = 0; e < s.root_count; ++e) {
+            if (e == r) continue;
+            if (facing(receiver, polygonOf(s, s.elements[e]))) links.push_back({r, e, 0});
+        }
+    }
+    return links;
+}
+
+void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress& progress) {
+    Solution& s = state.solution;
+    std::vector<size_t> needs_rays;  // final partial links (not in Rays mode)
+    const bool rays_mode = state.options.visibility == VisibilityMode::Rays;
+    int level = 0;
+    while (!pending.empty()) {
+        std::vector<Evaluation> evals(pending.size());
+        state.runner.forEach(pending.size(), 8, [&](size_t i) { evals[i] = evaluate(state, pending[i]); });
+        s.stats.candidate_links += pending.size();
+        std::vector<PendingLink> next;
+        for (size_t i = 0; i < pending.size(); ++i) {
+            Evaluation& ev = evals[i];
+            const PendingLink& link = pending[i];
+            s.stats.rays += ev.rays;
+            s.stats.shafts += ev.shaft ? 1 : 0;
+            if (ev.state == LinkState::Occluded) {
+                ++s.stats.occluded_links;
+                continue;
+            }
+            if (ev.state == LinkState::None) continue;
+            const bool partial = ev.state == LinkState::Partial;
+            const double spread = ev.ff.f_max - (partial ? 0.0 : ev.ff.f_min);
+            const Element& r = s.elements[link.receiver];
+            const Element& e = s.elements[link.source];
+            uint32_t list = kNoList;
+            if (partial) {
+                if (rays_mode) {
+                    list = 0;
+                } else {
+                    list = static_cast<uint32_t>(state.candidate_pool.size());
+                    state.candidate_pool.push_back(std::move(ev.candidates));
+                }
+            }
+            if (linkError(state, r, e, spread) > state.threshold) {
+                const bool split_r = splittable(state, r), split_e = splittable(state, e);
+                if (split_e && (e.area > r.area || !split_r)) {
+                    const uint32_t count = ensureChildren(s, link.source);
+                    const uint32_t first = s.elements[link.source].first_child;
+                    for (uint32_t c = 0; c < count; ++c) next.push_back({link.receiver, first + c, list});
+                    continue;
+                }
+                if (split_r) {
+                    const uint32_t count = ensureChildren(s, link.receiver);
+                    const uint32_t first = s.elements[link.receiver].first_child;
+                    for (uint32_t c = 0; c < count; ++c) next.push_back({first + c, link.source, list});
+                    continue;
+                }
+            }
+            Link final_link{link.receiver, link.source, ev.ff.form_factor, 1.0f};
+            if (rays_mode) {
+                final_link.visibility = static_cast<float>(ev.visibility);
+                final_link.form_factor *= ev.visibility;
+            } else if (partial) {
+                needs_rays.push_back(s.links.size());
+            }
+            if (partial) ++s.stats.partial_links;
+            s.links.push_back(final_link);
+            state.records.push_back({spread, list});
+        }
+        pending = std::move(next);
+        progress.update(std::min(0.9, 0.1 * ++level));
+    }
+    // A partial link that stopped refining gets its real visibility from rays.
+    std::vector<double> visibility(needs_rays.size(), 1.0);
+    std::vector<size_t> rays(needs_rays.size(), 0);
+    state.runner.forEach(needs_rays.size(), 16, [&](size_t k) {
+        const Link& link = s.links[needs_rays[k]];
+        visibility[k] = s.rays->visibleFraction(polygonOf(s, s.elements[link.source]).vertices,
+                                                polygonOf(s, s.elements[link.receiver]).vertices,
+                                                state.options.visibility_samples, &rays[k]);
+    });
+    for (size_t k = 0; k < needs_rays.size(); ++k) {
+        Link& link = s.links[needs_rays[k]];
+        link.visibility = static_cast<float>(visibility[k]);
+        link.form_factor *= visibility[k];
+        s.stats.rays += rays[k];
+    }
+}
+
+std::vector<PendingLink> reopenLinks(RefineState& state) {
+    Solution& s = state.solution;
+    std::vector<PendingLink> reopened;
+    size_t kept = 0;
+    for (size_t i = 0; i < s.links.size(); ++i) {
+        const Link& link = s.links[i];
+        const Element& r = s.elements[link.receiver];
+        const Element& e = s.elements[link.source];
+        const LinkRecord& record = state.records[i];
+        const bool can_split = splittable(state, r) || splittable(state, e);
+        if (can_split && link.visibility > 0.0f && linkError(state, r, e, record.spread) > state.threshold) {
+            // Re-evaluated from its own pair: its own candidate list is a superset of what
+            // its sub-links need.
+            reopened.push_back({link.receiver, link.source, record.candidates});
+            continue;
+        }
+        s.links[kept] = link;
+        state.records[kept] = record;
+        ++kept;
+    }
+    s.links.resize(kept);
+    state.records.resize(kept);
+    return reopened;
+}
+
+}  // namespace radbake

@@ -1,0 +1,63 @@
+#pragma once
+// Link refinement: the oracle of Hanrahan-Salzman-Aupperle with the shaft/occlusion tests of
+// Dupuy-Paulin-Caubet. Candidate links are evaluated in parallel (pure: form factor bounds,
+// shaft, occlusion); decisions and element splits then run sequentially in link order, so
+// element numbering and link order never depend on the thread count.
+#include <cstdint>
+#include <vector>
+
+#include "radiosity/parallel.h"
+#include "radiosity/solution.h"
+
+namespace radbake {
+
+inline constexpr uint32_t kNoList = 0xffffffffu;
+
+struct PendingLink {
+    uint32_t receiver = 0;
+    uint32_t source = 0;
+    uint32_t candidates = 0;  // index into RefineState::candidate_pool, kNoList: none
+};
+
+// Per final link (parallel to Solution::links): what the oracle needs to reopen it.
+struct LinkRecord {
+    double spread = 0.0;           // F_max - F_min, with F_min = 0 for a partial link
+    uint32_t candidates = kNoList; // its potential occluders (partial links)
+};
+
+struct RefineState {
+    const Scene& scene;
+    const PartSet& parts;
+    const SolverOptions& options;
+    ParallelRunner& runner;
+    Solution& solution;
+    std::vector<std::vector<uint32_t>> candidate_pool;  // [0] = every part
+    std::vector<std::vector<uint32_t>> root_excluded;   // parts holding each root's polygon
+    std::vector<LinkRecord> records;
+    std::vector<uint8_t> direct_done;                   // per element
+    double threshold = 0.0;  // W: a link may misplace at most this much power
+    void rescaleThreshold();  // after a solve: relative to the power leaving all surfaces
+    double min_area = 0.0;   // m^2: elements at or below it are not split
+};
+
+RefineState makeRefineState(const Scene& scene, const PartSet& parts, const SolverOptions& options,
+                            ParallelRunner& runner, Solution& solution);
+
+// Direct light of punctual lights on every element that lacks it, then splits elements
+// (to the minimum area) where it varies more than the threshold allows. Sets emission.
+void computeDirectLight(RefineState& state);
+
+// Every ordered pair of facing roots, with every part as potential occluder.
+std::vector<PendingLink> initialLinks(const RefineState& state);
+
+// Evaluates and refines the pending links into final links (appended to solution.links).
+void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress& progress);
+
+// Removes the final links whose oracle, re-run with the current radiosity, asks for a split,
+// and returns them as pending links.
+std::vector<PendingLink> reopenLinks(RefineState& state);
+
+// Helper: the largest channel.
+inline double maxChannel(const DVec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+}  // namespace radbake

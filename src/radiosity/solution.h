@@ -1,0 +1,86 @@
+#pragma once
+// The solved hierarchy: elements (quadtrees over the scene's convex source polygons), the
+// links that carry light between them, and each element's radiosity. Built by
+// solveRadiosity, read by the bake stage (bakeVertices, lightmaps) and by probes.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/math.h"
+#include "core/progress.h"
+#include "radiosity/solver.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+class RayCaster;
+struct PartSet;
+
+inline constexpr uint32_t kNoElement = 0xffffffffu;
+
+// A flat convex polygon of the hierarchy. Roots are source polygons (or, for a non-convex
+// or non-planar polygon, its triangles); a split gives one quad per vertex (vertex, edge
+// midpoint, centre, edge midpoint), so every element below the roots is a quad.
+struct Element {
+    uint32_t first_vertex = 0;   // into Solution::vertices
+    uint32_t vertex_count = 0;   // 3..n for roots, 4 below
+    uint32_t parent = kNoElement;
+    uint32_t first_child = kNoElement;  // children are contiguous
+    uint32_t child_count = 0;
+    uint32_t root = 0;           // index of its root element
+    uint32_t mesh = 0;           // Scene::meshes index
+    uint32_t polygon = 0;        // source polygon in that mesh
+    uint32_t depth = 0;
+    DVec3 normal{0.0, 0.0, 1.0}; // unit, front side
+    DVec3 centroid{0.0};         // area centroid
+    double area = 0.0;
+    double radius = 0.0;         // max distance from centroid to a vertex
+    DVec3 reflectance{0.0};      // rho
+    DVec3 emission{0.0};         // emitted exitance pi * L_e (+ rho * direct punctual light), W/m^2
+    DVec3 radiosity{0.0};        // B: leaves solved, inner elements the area average of their leaves
+    DVec3 gathered{0.0};         // irradiance gathered through this element's own links (W/m^2)
+
+    bool isLeaf() const { return child_count == 0; }
+};
+
+// Light flows from source to receiver: receiver.gathered += form_factor * source.radiosity.
+// form_factor already includes the visibility (the unoccluded fraction).
+struct Link {
+    uint32_t receiver = 0;
+    uint32_t source = 0;
+    double form_factor = 0.0;
+    float visibility = 1.0f;
+};
+
+struct Solution {
+    std::vector<DVec3> vertices;   // element polygon loops
+    std::vector<Element> elements; // roots first (root_count of them), children appended
+    uint32_t root_count = 0;
+    std::vector<Link> links;       // grouped by receiver
+    double scene_extent = 1.0;     // diagonal of the scene's bounding box (metres)
+    double total_area = 0.0;
+    std::unique_ptr<RayCaster> rays;  // for probes and vertex evaluation
+    const Scene* scene = nullptr;     // the scene it was solved for (must outlive the Solution)
+    SolverOptions options;
+    SolveStats stats;
+
+    Solution();
+    ~Solution();
+    Solution(Solution&&) noexcept;
+    Solution& operator=(Solution&&) noexcept;
+};
+
+// Solves the scene's light. Returns nullopt after reporting an error to diagnostics.
+// Never throws. Deterministic: the same result bytes for any options.threads.
+std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
+                                       const SolverOptions& options, Progress& progress,
+                                       Diagnostics& diagnostics);
+
+// Irradiance H (W/m^2, DESIGN.md section 2) arriving at `point` on a surface facing `normal`
+// (unit), gathered from the solved hierarchy (point-to-polygon form factors, visibility by
+// rays) plus the direct light of punctual lights. Per channel.
+DVec3 probeIrradiance(const Solution& solution, const DVec3& point, const DVec3& normal);
+
+}  // namespace radbake

@@ -1,0 +1,226 @@
+#include "radiosity/solve.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "radiosity/elements.h"
+#include "radiosity/form_factor.h"
+#include "radiosity/refine.h"
+
+namespace radbake {
+namespace {
+
+using Vector = std::vector<DVec3>;
+
+// Restart length: enough for the slow modes of rho ~ 0.99 to be caught in one cycle.
+constexpr int kRestart = 40;
+
+struct Operator {
+    Solution& s;
+    ParallelRunner& runner;
+    std::vector<uint32_t> leaves;
+    std::vector<double> weight;       // per leaf: area / total leaf area
+    std::vector<size_t> link_begin;   // per element + 1
+    std::vector<DVec3> pushed;        // per element: irradiance gathered here and above
+    std::vector<double> correction;   // per leaf: exact / hierarchical row sum (see below)
+
+    Operator(Solution& solution, ParallelRunner& r) : s(solution), runner(r) {
+        double total = 0.0;
+        for (uint32_t i = 0; i < s.elements.size(); ++i)
+            if (s.elements[i].isLeaf()) {
+                leaves.push_back(i);
+                total += s.elements[i].area;
+            }
+        for (uint32_t leaf : leaves) weight.push_back(total > 0.0 ? s.elements[leaf].area / total : 0.0);
+        link_begin.assign(s.elements.size() + 1, 0);
+        for (const Link& link : s.links) ++link_begin[link.receiver + 1];
+        for (size_t i = 0; i < s.elements.size(); ++i) link_begin[i + 1] += link_begin[i];
+        pushed.assign(s.elements.size(), DVec3(0.0));
+        computeCorrections();
+    }
+
+    // Pushing a link's irradiance down assumes the form factor is uniform over its receiver;
+    // the oracle bounds the misplaced power, not the local error, so a small leaf near a
+    // corner can inherit row sums of 1.4 (and at rho = 0.99 the system then has no physical
+    // solution). Each leaf's pushed irradiance is therefore scaled by
+    //   sum over inherited links of V F(leaf centroid -> source) / sum of V F(link),
+    // which is exact for uniform radiosity and keeps row sums at their geometric value.
+    void computeCorrections() {
+        correction.assign(leaves.size(), 1.0);
+        std::vector<double> row_hier(leaves.size(), 0.0), row_exact(leaves.size(), 0.0);
+        runner.forEach(leaves.size(), 64, [&](size_t k) {
+            const Element& leaf = s.elements[leaves[k]];
+            double hierarchical = 0.0, exact = 0.0;
+            for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent) {
+                for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l) {
+                    const Link& link = s.links[l];
+                    const Element& source = s.elements[link.source];
+                    hierarchical += link.form_factor;
+                    exact += link.visibility * pointPolygonFormFactor(leaf.centroid, leaf.normal,
+                                                                      polygonOf(s, source).vertices, source.normal);
+                }
+            }
+            double own = 0.0;
+            for (size_t l = link_begin[leaves[k]]; l < link_begin[leaves[k] + 1]; ++l) own += s.links[l].form_factor;
+            row_hier[k] = own + hierarchical;
+            row_exact[k] = own + exact;
+        });
+        // The centroid rule is biased near adjacent sources, while the hierarchical sums are
+        // exact in power over each receiver. Keep each root's power: the corrections only
+        // redistribute within a root.
+        std::vector<double> hier_power(s.root_count, 0.0), exact_power(s.root_count, 0.0);
+        for (size_t k = 0; k < leaves.size(); ++k) {
+            const Element& leaf = s.elements[leaves[k]];
+            hier_power[leaf.root] += leaf.area * row_hier[k];
+            exact_power[leaf.root] += leaf.area * row_exact[k];
+        }
+        for (size_t k = 0; k < leaves.size(); ++k) {
+            const uint32_t root = s.elements[leaves[k]].root;
+            if (row_hier[k] > 0.0 && exact_power[root] > 0.0)
+                correction[k] = row_exact[k] / row_hier[k] * (hier_power[root] / exact_power[root]);
+        }
+    }
+
+    // y = rho K x (x, y: leaf radiosities / reflected exitance).
+    void apply(const Vector& x, Vector& y) {
+        for (size_t k = 0; k < leaves.size(); ++k) s.elements[leaves[k]].radiosity = x[k];
+        pullRadiosity(s);
+        runner.forRanges(s.elements.size(), 256, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                DVec3 h(0.0);
+                for (size_t l = link_begin[i]; l < link_begin[i + 1]; ++l)
+                    h += s.links[l].form_factor * s.elements[s.links[l].source].radiosity;
+                s.elements[i].gathered = h;
+            }
+        });
+        // Parents precede their children in the element array.
+        for (size_t i = 0; i < s.elements.size(); ++i) {
+            const Element& e = s.elements[i];
+            pushed[i] = e.gathered + (e.parent == kNoElement ? DVec3(0.0) : pushed[e.parent]);
+        }
+        y.resize(leaves.size());
+        for (size_t k = 0; k < leaves.size(); ++k)
+            y[k] = correction[k] * (s.elements[leaves[k]].reflectance * pushed[leaves[k]]);
+    }
+
+    double dot(const Vector& a, const Vector& b) const {
+        double sum = 0.0;
+        for (size_t k = 0; k < a.size(); ++k) sum += weight[k] * glm::dot(a[k], b[k]);
+        return sum;
+    }
+    double norm(const Vector& a) const { return std::sqrt(std::max(0.0, dot(a, a))); }
+};
+
+}  // namespace
+
+void pullRadiosity(Solution& solution) {
+    auto& elements = solution.elements;
+    for (size_t i = elements.size(); i-- > 0;) {
+        Element& e = elements[i];
+        if (e.isLeaf()) continue;
+        DVec3 sum(0.0);
+        double area = 0.0;
+        for (uint32_t c = 0; c < e.child_count; ++c) {
+            const Element& child = elements[e.first_child + c];
+            sum += child.area * child.radiosity;
+            area += child.area;
+        }
+        e.radiosity = area > 0.0 ? sum / area : DVec3(0.0);
+    }
+}
+
+void groupLinksByReceiver(Solution& solution, std::vector<LinkRecord>* records) {
+    std::vector<size_t> order(solution.links.size());
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+        return solution.links[a].receiver < solution.links[b].receiver;
+    });
+    std::vector<Link> links;
+    links.reserve(order.size());
+    for (size_t i : order) links.push_back(solution.links[i]);
+    solution.links = std::move(links);
+    if (records) {
+        std::vector<LinkRecord> sorted;
+        sorted.reserve(order.size());
+        for (size_t i : order) sorted.push_back((*records)[i]);
+        *records = std::move(sorted);
+    }
+}
+
+LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, double tolerance, int max_iterations) {
+    Operator op(solution, runner);
+    const size_t n = op.leaves.size();
+    LinearSolveResult result;
+    Vector b(n), x(n), r(n), w(n), ax(n);
+    for (size_t k = 0; k < n; ++k) {
+        b[k] = solution.elements[op.leaves[k]].emission;
+        x[k] = solution.elements[op.leaves[k]].radiosity;
+    }
+    const double b_norm = op.norm(b);
+    if (!(b_norm > 0.0)) {
+        std::fill(x.begin(), x.end(), DVec3(0.0));
+        op.apply(x, ax);
+        result.converged = true;
+        return result;
+    }
+    std::vector<Vector> basis(kRestart + 1, Vector(n));
+    std::vector<std::vector<double>> h(kRestart + 1, std::vector<double>(kRestart, 0.0));
+    std::vector<double> cs(kRestart), sn(kRestart), g(kRestart + 1), y(kRestart);
+    while (true) {
+        // True residual r = b - (x - rho K x).
+        op.apply(x, ax);
+        ++result.iterations;
+        for (size_t k = 0; k < n; ++k) r[k] = b[k] - x[k] + ax[k];
+        const double beta = op.norm(r);
+        result.residual = beta / b_norm;
+        if (result.residual < tolerance) {
+            result.converged = true;
+            break;
+        }
+        if (result.iterations >= max_iterations) break;
+        for (size_t k = 0; k < n; ++k) basis[0][k] = r[k] / beta;
+        std::fill(g.begin(), g.end(), 0.0);
+        g[0] = beta;
+        int used = 0;
+        for (int j = 0; j < kRestart && result.iterations < max_iterations; ++j) {
+            op.apply(basis[j], w);
+            ++result.iterations;
+            for (size_t k = 0; k < n; ++k) w[k] = basis[j][k] - w[k];
+            // Modified Gram-Schmidt, fixed order.
+            for (int i = 0; i <= j; ++i) {
+                h[i][j] = op.dot(w, basis[i]);
+                for (size_t k = 0; k < n; ++k) w[k] -= h[i][j] * basis[i][k];
+            }
+            h[j + 1][j] = op.norm(w);
+            if (h[j + 1][j] > 0.0)
+                for (size_t k = 0; k < n; ++k) basis[j + 1][k] = w[k] / h[j + 1][j];
+            for (int i = 0; i < j; ++i) {
+                const double t = cs[i] * h[i][j] + sn[i] * h[i + 1][j];
+                h[i + 1][j] = -sn[i] * h[i][j] + cs[i] * h[i + 1][j];
+                h[i][j] = t;
+            }
+            const double d = std::hypot(h[j][j], h[j + 1][j]);
+            cs[j] = d > 0.0 ? h[j][j] / d : 1.0;
+            sn[j] = d > 0.0 ? h[j + 1][j] / d : 0.0;
+            h[j][j] = d;
+            h[j + 1][j] = 0.0;
+            g[j + 1] = -sn[j] * g[j];
+            g[j] = cs[j] * g[j];
+            used = j + 1;
+            if (std::abs(g[j + 1]) / b_norm < 0.5 * tolerance || d == 0.0) break;
+        }
+        for (int i = used - 1; i >= 0; --i) {
+            double sum = g[i];
+            for (int k = i + 1; k < used; ++k) sum -= h[i][k] * y[k];
+            y[i] = h[i][i] != 0.0 ? sum / h[i][i] : 0.0;
+        }
+        for (int i = 0; i < used; ++i)
+            for (size_t k = 0; k < n; ++k) x[k] += y[i] * basis[i][k];
+    }
+    // The last application was at the final x: leaves hold x, parents their averages and
+    // `gathered` the irradiance gathered from them.
+    return result;
+}
+
+}  // namespace radbake

