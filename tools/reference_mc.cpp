@@ -1,7 +1,10 @@
 // reference_mc: brute-force Monte Carlo probe irradiance, independent of the hierarchy.
 //
 //   reference_mc SCENE PROBES [--samples N] [--seed S] [--threads T] [--unit-scale U]
-//                [--emission-scale E] [-o OUT.csv]
+//                [--emission-scale E] [--no-nee] [-o OUT.csv]
+//
+// --no-nee: pure path tracing (emission counted only where paths hit it) instead of the
+// default next-event estimation; both are unbiased, the default is far less noisy.
 //
 // Prints (or writes) a CSV like `radbake bake --probes` writes (x,y,z,nx,ny,nz,r,g,b: H in
 // W/m^2) with three more columns, se_r,se_g,se_b: the standard error of each estimate. The
@@ -24,7 +27,7 @@ namespace {
 int usage() {
     std::fprintf(stderr,
                  "usage: reference_mc SCENE PROBES [--samples N=4096] [--seed S=1] [--threads T=0]\n"
-                 "                    [--unit-scale U=1] [--emission-scale E=1] [-o OUT.csv]\n");
+                 "                    [--unit-scale U=1] [--emission-scale E=1] [--no-nee] [-o OUT.csv]\n");
     return 2;
 }
 
@@ -42,6 +45,7 @@ int main(int argc, char** argv) {
         if (arg == "--samples" && (v = value())) options.samples = std::atoi(v);
         else if (arg == "--seed" && (v = value())) options.seed = std::strtoull(v, nullptr, 10);
         else if (arg == "--threads" && (v = value())) options.threads = std::atoi(v);
+        else if (arg == "--no-nee") options.next_event = false;
         else if (arg == "--unit-scale" && (v = value())) import.unit_scale = std::strtof(v, nullptr);
         else if (arg == "--emission-scale" && (v = value())) import.emission_scale = std::strtof(v, nullptr);
         else if ((arg == "-o" || arg == "--output") && (v = value())) out_path = v;
@@ -93,8 +97,8 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
-    std::fprintf(stderr, "reference_mc: %zu probes, %d paths each, %zu triangles, %llu rays, %.3f s\n",
-                 results.size(), options.samples, bvh.triangles().size(), static_cast<unsigned long long>(rays),
+    std::fprintf(stderr, "reference_mc: %zu probes, %d paths each (%s), %zu triangles, %llu rays, %.3f s\n",
+                 results.size(), options.samples, options.next_event ? "next-event estimation" : "pure path tracing", bvh.triangles().size(), static_cast<unsigned long long>(rays),
                  seconds);
     return 0;
 }

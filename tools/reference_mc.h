@@ -4,7 +4,19 @@
 // an exact double-precision ray/triangle test. Header-only so that tools/reference_mc.cpp and
 // tests/harness/ compile the same code (every tools/*.cpp is its own executable).
 //
-// Estimator (per probe x with normal n, per channel): draw a cosine-weighted direction,
+// Two unbiased estimators (per probe x with normal n, per channel).
+//
+// Path tracing with next-event estimation and multiple importance sampling (the default,
+// McOptions::next_event): at every path vertex x_k (the probe, then each hit) sample one point
+// y on the emitters (triangle chosen with probability proportional to area x max channel of
+// L_e, uniform on it) and add throughput * L_e(y) cos_x cos_y / r^2 / pdf_area(y) when y's
+// front faces x_k and the segment is clear; then continue as below, where a path that HITS an
+// emitter adds its pi L_e too. Each of the two contributions is weighted by the balance
+// heuristic (Veach): w = p / (p_light + p_cosine), both densities per solid angle, so the sum
+// stays unbiased, small lights are found by light sampling and large near ones (a furnace's
+// walls, where 1/r^2 makes light sampling noisy) by the cosine samples.
+//
+// Pure path tracing (next_event = false): draw a cosine-weighted direction,
 // follow the path; at every hit y_k on a FRONT face add pi * L_e(y_k) times the throughput,
 // then continue with probability q = max channel of rho(y_k) (Russian roulette), the
 // throughput multiplied by rho / q. With pdf cos/pi, pi * L(omega) is an unbiased estimate
@@ -255,6 +267,7 @@ inline DVec3 cosineDirection(const DVec3& n, McRandom& random) {
 
 struct McOptions {
     int samples = 4096;           // paths per probe
+    bool next_event = true;       // light sampling + MIS at every vertex (see the top of this file)
     uint64_t seed = 1;
     int max_bounces = 1 << 20;    // safety net only: Russian roulette ends paths (rho < 1)
     int threads = 0;              // 0: hardware concurrency
@@ -266,7 +279,97 @@ struct McProbeResult {
     uint64_t rays = 0;
 };
 
-// One path's estimate of H at (p, n).
+// Picks points on the emitters: triangle t with probability w_t / W, w_t = A_t x max channel of
+// L_e, then uniformly on t; so pdf_area(y) = max channel of L_e(t) / W.
+class McEmitters {
+public:
+    explicit McEmitters(const McBvh& bvh) {
+        const auto& tris = bvh.triangles();
+        for (uint32_t i = 0; i < tris.size(); ++i) {
+            const double le = std::max(tris[i].emission.x, std::max(tris[i].emission.y, tris[i].emission.z));
+            if (!(le > 0.0)) continue;
+            total_ += 0.5 * glm::length(glm::cross(tris[i].e1, tris[i].e2)) * le;
+            index_.push_back(i);
+            cdf_.push_back(total_);
+        }
+    }
+    bool empty() const { return index_.empty(); }
+    double total() const { return total_; }
+    uint32_t pick(double u) const {
+        const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u * total_);
+        return index_[std::min<size_t>(it - cdf_.begin(), index_.size() - 1)];
+    }
+
+private:
+    std::vector<uint32_t> index_;
+    std::vector<double> cdf_;
+    double total_ = 0.0;
+};
+
+// Light-sampling density per solid angle of emitter triangle `tri` seen at distance t under
+// cos_y; 0 for a non-emitter.
+inline double lightPdfSolidAngle(const McEmitters& emitters, const McTriangle& tri, double t, double cos_y) {
+    const double le_max = std::max(tri.emission.x, std::max(tri.emission.y, tri.emission.z));
+    if (!(le_max > 0.0) || !(cos_y > 0.0)) return 0.0;
+    return le_max / emitters.total() * t * t / cos_y;
+}
+
+// Direct irradiance at (x, n) from one emitter sample, MIS-weighted (0 when hidden or facing away).
+inline DVec3 sampleDirect(const McBvh& bvh, const McEmitters& emitters, const DVec3& x, const DVec3& n,
+                          uint32_t skip, McRandom& random, uint64_t& rays) {
+    const uint32_t index = emitters.pick(random.uniform());
+    const McTriangle& light = bvh.triangles()[index];
+    double u = random.uniform(), v = random.uniform();
+    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;  // fold the square onto the triangle: uniform
+    const DVec3 y = light.v0 + light.e1 * u + light.e2 * v;
+    const DVec3 to = y - x;
+    const double r2 = glm::dot(to, to);
+    if (!(r2 > 0.0)) return DVec3(0.0);
+    const double r = std::sqrt(r2);
+    const DVec3 w = to / r;
+    const double cos_x = glm::dot(n, w), cos_y = -glm::dot(light.normal, w);
+    if (cos_x <= 0.0 || cos_y <= 0.0) return DVec3(0.0);
+    ++rays;
+    McHit hit;
+    const double eps = bvh.epsilon();
+    if (r > 2.0 * eps && bvh.closestHit(x, w, 0.0, r - eps, skip, hit) && hit.triangle != index) return DVec3(0.0);
+    const double p_light = lightPdfSolidAngle(emitters, light, r, cos_y), p_cosine = cos_x / kPi;
+    // L_e cos_x / p_light, times the balance weight p_light / (p_light + p_cosine).
+    return light.emission * (cos_x / (p_light + p_cosine));
+}
+
+// One path's estimate of H at (p, n), with next-event estimation and MIS.
+inline DVec3 tracePathNee(const McBvh& bvh, const McEmitters& emitters, const DVec3& p, const DVec3& n,
+                          McRandom& random, int max_bounces, uint64_t& rays) {
+    const double eps = bvh.epsilon();
+    DVec3 origin = p + n * eps, normal = n;
+    uint32_t skip = std::numeric_limits<uint32_t>::max();
+    DVec3 throughput(1.0), sum(0.0);
+    if (emitters.empty()) return sum;
+    for (int bounce = 0; bounce <= max_bounces; ++bounce) {
+        sum += throughput * sampleDirect(bvh, emitters, origin, normal, skip, random, rays);
+        McHit hit;
+        ++rays;
+        const DVec3 dir = cosineDirection(normal, random);
+        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) break;
+        const McTriangle& tri = bvh.triangles()[hit.triangle];
+        const double cos_y = -glm::dot(dir, tri.normal);
+        if (cos_y <= 0.0) break;  // back face: black, absorbs
+        const double p_cosine = glm::dot(normal, dir) / kPi;
+        const double p_light = lightPdfSolidAngle(emitters, tri, hit.t, cos_y);
+        // pi L_e (= L_e cos_x / p_cosine), times the balance weight p_cosine / (p_cosine + p_light).
+        if (p_light > 0.0) sum += throughput * (kPi * tri.emission) * (p_cosine / (p_cosine + p_light));
+        const double q = std::max(tri.reflectance.x, std::max(tri.reflectance.y, tri.reflectance.z));
+        if (q <= 0.0 || random.uniform() >= q) break;
+        throughput *= tri.reflectance / q;
+        origin = origin + dir * hit.t + tri.normal * eps;
+        normal = tri.normal;
+        skip = hit.triangle;
+    }
+    return sum;
+}
+
+// One path's estimate of H at (p, n), pure path tracing.
 inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRandom& random, int max_bounces,
                        uint64_t& rays) {
     const double eps = bvh.epsilon();
@@ -296,15 +399,17 @@ inline uint64_t probeSeed(uint64_t seed, size_t probe) {
     return mix.next();
 }
 
-inline McProbeResult estimateProbe(const McBvh& bvh, const DVec3& p, const DVec3& n_in, size_t probe_index,
-                                   const McOptions& options) {
+inline McProbeResult estimateProbe(const McBvh& bvh, const McEmitters& emitters, const DVec3& p,
+                                   const DVec3& n_in, size_t probe_index, const McOptions& options) {
     McProbeResult result;
     const DVec3 n = glm::normalize(n_in);
     McRandom random(probeSeed(options.seed, probe_index));
     DVec3 sum(0.0), sum_sq(0.0);
     const int samples = std::max(1, options.samples);
     for (int s = 0; s < samples; ++s) {
-        const DVec3 value = tracePath(bvh, p, n, random, options.max_bounces, result.rays);
+        const DVec3 value = options.next_event
+                                ? tracePathNee(bvh, emitters, p, n, random, options.max_bounces, result.rays)
+                                : tracePath(bvh, p, n, random, options.max_bounces, result.rays);
         sum += value;
         sum_sq += value * value;
     }
@@ -326,10 +431,11 @@ struct McProbe {
 inline std::vector<McProbeResult> estimateProbes(const McBvh& bvh, const std::vector<McProbe>& probes,
                                                  const McOptions& options) {
     std::vector<McProbeResult> results(probes.size());
+    const McEmitters emitters(bvh);
     std::atomic<size_t> next{0};
     auto work = [&] {
         for (size_t i = next++; i < probes.size(); i = next++)
-            results[i] = estimateProbe(bvh, probes[i].position, probes[i].normal, i, options);
+            results[i] = estimateProbe(bvh, emitters, probes[i].position, probes[i].normal, i, options);
     };
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
     threads = std::clamp(threads, 1, 256);

@@ -60,7 +60,7 @@ std::vector<reference::McProbe> readProbeFile(const std::string& name) {
 // Every probe's estimate within 4 standard errors of the exact value (two-sided chance of a
 // false alarm 6e-5 per probe; seeds are fixed, so a pass is reproducible), and the standard
 // error small enough (below max_rel_se of the value) that the check has teeth.
-void checkAgainstExact(const std::string& name, int samples, double max_rel_se) {
+void checkAgainstExact(const std::string& name, int samples, double max_rel_se, bool next_event) {
     const Scene scene = loadScene(name);
     const std::vector<reference::McProbe> probes = readProbeFile(name);
     const std::vector<Expected> expected = readExpected(name);
@@ -69,10 +69,12 @@ void checkAgainstExact(const std::string& name, int samples, double max_rel_se) 
     reference::McOptions options;
     options.samples = samples;
     options.threads = 2;
+    options.next_event = next_event;
     const std::vector<reference::McProbeResult> results = reference::estimateProbes(bvh, probes, options);
     double z_sq = 0.0;
     for (size_t i = 0; i < probes.size(); ++i) {
         CAPTURE(name);
+        CAPTURE(next_event);
         CAPTURE(i);
         const double exact = expected[i].irradiance.x;
         const double estimate = results[i].irradiance.x, se = results[i].standard_error.x;
@@ -118,16 +120,19 @@ TEST_CASE("analytic answers: the point under the corner and the furnaces") {
     }
 }
 
-TEST_CASE("reference MC agrees with the parallel squares within its printed error") {
-    checkAgainstExact("parallel_squares", 4096, 0.05);
+TEST_CASE("reference MC (pure path tracing) agrees with analytic scenes within its printed error") {
+    checkAgainstExact("parallel_squares", 4096, 0.05, false);
+    checkAgainstExact("furnace_rho_0.5", 2048, 0.02, false);
+    checkAgainstExact("sphere_patch", 4096, 0.5, false);
 }
 
-TEST_CASE("reference MC agrees with the rho = 0.5 furnace within its printed error") {
-    checkAgainstExact("furnace_rho_0.5", 2048, 0.02);
-}
-
-TEST_CASE("reference MC agrees with one emitting patch of a tessellated sphere within its printed error") {
-    checkAgainstExact("sphere_patch", 4096, 0.5);
+TEST_CASE("reference MC (next-event estimation) agrees with analytic scenes within its printed error") {
+    // Light sampling: a far smaller error for the same paths, so tighter bounds on it.
+    checkAgainstExact("parallel_squares", 1024, 0.02, true);
+    checkAgainstExact("corner_point", 1024, 0.02, true);
+    checkAgainstExact("hinged_120", 1024, 0.08, true);
+    checkAgainstExact("furnace_rho_0.9", 1024, 0.05, true);
+    checkAgainstExact("sphere_patch", 1024, 0.05, true);
 }
 
 TEST_CASE("reference MC is deterministic for any thread count") {

@@ -415,3 +415,34 @@ TEST_CASE("vrml1: extension nodes describe their fields and may name the node th
     REQUIRE(blob);
     CHECK(blob->location.line == 13);
 }
+
+TEST_CASE("vrml1: a missing WWWInline file is skipped with a located warning; strict makes it an error") {
+    const fs::path dir = tempDir();
+    const std::string body =
+        "Separator {\n"
+        "  WWWInline { name \"nowhere.wrl\" }\n"
+        "  Coordinate3 { point [ 0 0 0, 1 0 0, 1 1 0 ] }\n"
+        "  IndexedFaceSet { coordIndex [ 0, 1, 2, -1 ] }\n"
+        "}\n";
+    const Read lenient = readAt(dir / "main.wrl", body);
+    REQUIRE(lenient.scene);
+    CHECK(lenient.scene->meshes.size() == 1);
+    const Diagnostic* warning = lenient.find(Severity::Warning, "not found");
+    REQUIRE(warning != nullptr);
+    CHECK(warning->location.line == 3);
+    const Read strict = readAt(dir / "strict.wrl", body, true);
+    CHECK_FALSE(strict.scene);
+    CHECK(strict.count(Severity::Error, "not found") == 1);
+}
+
+TEST_CASE("vrml1: WWWInline places the inlined file by the current transform; a cycle is cut") {
+    const fs::path dir = tempDir();
+    writeFile(dir / "child.wrl",
+              "#VRML V1.0 ascii\nSeparator {\n  Coordinate3 { point [ 0 0 0, 1 0 0, 1 1 0 ] }\n"
+              "  IndexedFaceSet { coordIndex [ 0, 1, 2, -1 ] }\n  WWWInline { name \"main.wrl\" }\n}\n");
+    const Read r = readAt(dir / "main.wrl", "Separator { Translation { translation 0 0 5 } WWWInline { name \"child.wrl\" } }\n");
+    REQUIRE(r.scene);
+    REQUIRE(r.scene->meshes.size() == 1);  // main -> child -> main is cut at the second main
+    CHECK(r.scene->meshes[0].positions[0].z == doctest::Approx(5.0));
+    CHECK(r.count(Severity::Warning, "already being read") == 1);
+}

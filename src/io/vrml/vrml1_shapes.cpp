@@ -2,6 +2,7 @@
 // cameras and WWWInline.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -435,15 +436,25 @@ bool Vrml1Parser::parseInline(const Token& type, Vrml1State& state, int depth) {
         warn(type, "WWWInline '" + url + "' is not a local file; skipped");
         return true;
     }
-    if (std::find(inline_stack_.begin(), inline_stack_.end(), *resolved) != inline_stack_.end()) {
-        warn(type, "WWWInline '" + url + "' includes itself (through " + inline_stack_.back() + "); skipped");
+    // As the VRML97 reader does: a missing file is skipped with a warning (an error with
+    // --strict), and the recursion guard compares canonical paths.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(*resolved, ec)) {
+        const std::string message = "WWWInline file '" + *resolved + "' not found; skipped";
+        if (options_.strict) diagnostics_.error(loc(type), message);
+        else warn(type, message);
+        return true;
+    }
+    const std::string key = std::filesystem::weakly_canonical(*resolved, ec).string();
+    if (std::find(inline_stack_.begin(), inline_stack_.end(), key) != inline_stack_.end()) {
+        warn(type, "WWWInline '" + url + "' includes itself (a file already being read); skipped");
         return true;
     }
     const std::optional<std::string> text = loadText(*resolved, loc(type), diagnostics_);
     if (!text) return true;  // loadText reported where and why
 
     const size_t meshes = scene_.meshes.size(), lights = scene_.lights.size(), cameras = scene_.cameras.size();
-    inline_stack_.push_back(*resolved);
+    inline_stack_.push_back(key);
     readText(*text, *resolved, options_, inline_stack_, scene_, diagnostics_);
     inline_stack_.pop_back();
 
