@@ -6,6 +6,7 @@
 #include <exception>
 
 #include "io/vrml/vrml1_parser.h"
+#include "io/vrml/vrml_transform.h"
 
 namespace radbake::vrml {
 namespace {
@@ -53,26 +54,6 @@ Vrml1Kind kindOf(std::string_view name) {
     };
     const auto it = kinds.find(name);
     return it == kinds.end() ? Vrml1Kind::Unknown : it->second;
-}
-
-DMat4 rotationMatrix(const DVec3& axis, double angle) {
-    const double length = glm::length(axis);
-    if (!(length > 0.0) || !std::isfinite(length) || !std::isfinite(angle)) return DMat4(1.0);
-    return DMat4(glm::mat3_cast(glm::angleAxis(angle, axis / length)));
-}
-
-DMat4 translationMatrix(const Vec3& t) {
-    DMat4 m(1.0);
-    m[3] = glm::dvec4(DVec3(t), 1.0);
-    return m;
-}
-
-DMat4 scaleMatrix(const Vec3& s) {
-    DMat4 m(1.0);
-    m[0][0] = s.x;
-    m[1][1] = s.y;
-    m[2][2] = s.z;
-    return m;
 }
 
 bool parseBinding(std::string_view value, Vrml1Binding& binding) {

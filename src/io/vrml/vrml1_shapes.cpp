@@ -10,6 +10,7 @@
 
 #include "io/vrml/primitives.h"
 #include "io/vrml/vrml1_parser.h"
+#include "io/vrml/vrml_transform.h"
 #include "scene/triangulate.h"
 
 namespace radbake::vrml {
@@ -32,29 +33,6 @@ const T& pick(const std::vector<T>& values, uint32_t index) {
     return index < values.size() ? values[index] : values.front();
 }
 
-Vec3 transformPoint(const DMat4& m, const Vec3& p) {
-    const glm::dvec4 r = m * glm::dvec4(DVec3(p), 1.0);
-    const double w = (r.w != 0.0 && std::isfinite(r.w)) ? r.w : 1.0;  // affine in practice
-    return Vec3(DVec3(r) / w);
-}
-
-Vec3 transformDirection(const DMat4& m, const Vec3& d, const Vec3& fallback) {
-    const DVec3 r = glm::dmat3(m) * DVec3(d);
-    const double length = glm::length(r);
-    return length > 0.0 && std::isfinite(length) ? Vec3(r / length) : fallback;
-}
-
-// The rotation part of a matrix that may also scale (no shear expected).
-Quat rotationOf(const DMat4& m) {
-    glm::dmat3 r(m);
-    for (int c = 0; c < 3; ++c) {
-        const double length = glm::length(r[c]);
-        if (!(length > 0.0)) return Quat(1, 0, 0, 0);
-        r[c] /= length;
-    }
-    if (glm::determinant(r) < 0.0) r[2] = -r[2];
-    return Quat(glm::quat_cast(r));
-}
 
 // True when the face, seen along its Newell normal, turns the same way at every corner. Files
 // often keep the default faceType CONVEX for faces that are not; those are ear-clipped.
@@ -459,31 +437,7 @@ bool Vrml1Parser::parseInline(const Token& type, Vrml1State& state, int depth) {
     inline_stack_.pop_back();
 
     // What the inline appended is in its own coordinates: place it here.
-    const DMat4& m = state.world_from_object;
-    const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
-    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(m)));
-    for (size_t i = meshes; i < scene_.meshes.size(); ++i) {
-        Mesh& mesh = scene_.meshes[i];
-        for (Vec3& p : mesh.positions) p = transformPoint(m, p);
-        for (Vec3& n : mesh.normals) {
-            const DVec3 r = normal_matrix * DVec3(n);
-            const double length = glm::length(r);
-            if (length > 0.0) n = Vec3(r / length);
-        }
-        if (mirrored)
-            for (UVec3& t : mesh.triangles) std::swap(t.y, t.z);
-    }
-    for (size_t i = lights; i < scene_.lights.size(); ++i) {
-        Light& light = scene_.lights[i];
-        light.position = transformPoint(m, light.position);
-        light.direction = transformDirection(m, light.direction, light.direction);
-    }
-    const Quat rotation = rotationOf(m);
-    for (size_t i = cameras; i < scene_.cameras.size(); ++i) {
-        Camera& camera = scene_.cameras[i];
-        camera.position = transformPoint(m, camera.position);
-        camera.orientation = glm::normalize(rotation * camera.orientation);
-    }
+    transformAppended(scene_, meshes, lights, cameras, state.world_from_object);
     return true;
 }
 

@@ -1,4 +1,5 @@
 #include "io/vrml/vrml97_builder.h"
+#include "io/vrml/vrml_transform.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,74 +15,8 @@ const std::vector<float> kNoFloats;
 const std::vector<int32_t> kNoInts;
 const std::vector<std::string> kNoStrings;
 
-// VRML rotation (axis x y z, angle) as a matrix; a zero axis is no rotation.
-DMat4 rotationMatrix(const Vec4& r) {
-    const DVec3 axis(r.x, r.y, r.z);
-    const double length = glm::length(axis);
-    if (!(length > 0.0) || !std::isfinite(length) || !std::isfinite(r.w)) return DMat4(1.0);
-    return glm::mat4_cast(glm::angleAxis(double(r.w), axis / length));
-}
-
-DMat4 translationMatrix(const Vec3& t) {
-    DMat4 m(1.0);
-    m[3] = glm::dvec4(DVec3(t), 1.0);
-    return m;
-}
-
-DMat4 scaleMatrix(const Vec3& s) {
-    DMat4 m(1.0);
-    m[0][0] = s.x;
-    m[1][1] = s.y;
-    m[2][2] = s.z;
-    return m;
-}
-
-Vec3 transformPoint(const DMat4& m, const Vec3& p) { return Vec3(m * glm::dvec4(DVec3(p), 1.0)); }
-
-Vec3 transformDirection(const DMat4& m, const Vec3& d) {
-    const DVec3 r = glm::dmat3(m) * DVec3(d);
-    const double length = glm::length(r);
-    return length > 0.0 ? Vec3(r / length) : d;
-}
 
 }  // namespace
-
-void transformAppended(Scene& scene, size_t first_mesh, size_t first_light, size_t first_camera,
-                       const DMat4& m) {
-    const glm::dmat3 linear(m);
-    const bool mirrored = glm::determinant(linear) < 0.0;
-    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
-    const double scale = std::cbrt(std::abs(glm::determinant(linear)));
-    for (size_t i = first_mesh; i < scene.meshes.size(); ++i) {
-        Mesh& mesh = scene.meshes[i];
-        for (Vec3& p : mesh.positions) p = transformPoint(m, p);
-        for (Vec3& n : mesh.normals) {
-            const DVec3 r = normal_matrix * DVec3(n);
-            const double length = glm::length(r);
-            if (length > 0.0) n = Vec3(r / length);
-        }
-        if (mirrored)
-            for (UVec3& t : mesh.triangles) std::swap(t.y, t.z);
-    }
-    for (size_t i = first_light; i < scene.lights.size(); ++i) {
-        Light& light = scene.lights[i];
-        light.position = transformPoint(m, light.position);
-        light.direction = transformDirection(m, light.direction);
-        if (light.type != LightType::Directional) light.radius = float(light.radius * scale);
-    }
-    // Cameras keep a pure rotation: the columns of the linear part, normalised.
-    glm::dmat3 rotation = linear;
-    for (int c = 0; c < 3; ++c) {
-        const double length = glm::length(rotation[c]);
-        if (length > 0.0) rotation[c] /= length;
-    }
-    const Quat q = Quat(glm::quat_cast(rotation));
-    for (size_t i = first_camera; i < scene.cameras.size(); ++i) {
-        Camera& camera = scene.cameras[i];
-        camera.position = transformPoint(m, camera.position);
-        camera.orientation = glm::normalize(q * camera.orientation);
-    }
-}
 
 bool readVrml97(std::string_view text, const std::string& path, const VrmlOptions& options,
                 std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics) {

@@ -15,11 +15,6 @@ namespace radbake::vrml {
 bool readVrml97(std::string_view text, const std::string& path, const VrmlOptions& options,
                 std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics);
 
-// Transforms what was appended to `scene` after the given sizes (an Inline's content) by
-// `world_from_object`, flipping triangle winding when it mirrors.
-void transformAppended(Scene& scene, size_t first_mesh, size_t first_light, size_t first_camera,
-                       const DMat4& world_from_object);
-
 class Vrml97Builder {
 public:
     Vrml97Builder(std::string path, const VrmlOptions& options, std::vector<std::string>& inline_stack,
