@@ -16,5 +16,6 @@ void printDiagnosticsToStderr(Diagnostics& diagnostics);
 
 void addInfoCommand(CLI::App& app, int& result);
 void addBakeCommand(CLI::App& app, int& result);
+void addCompareCommand(CLI::App& app, int& result);
 
 }  // namespace radbake::cli

@@ -1,0 +1,144 @@
+// Lightmap texel evaluation and dilation.
+#include "bake/lightmap_bake.h"
+
+#include <algorithm>
+
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "radiosity/solution.h"
+
+namespace radbake {
+namespace {
+
+DVec2 polygonCentroid(const std::vector<DVec2>& polygon) {
+    double twice_area = 0.0;
+    DVec2 sum(0.0);
+    for (size_t k = 0; k < polygon.size(); ++k) {
+        const DVec2& a = polygon[k];
+        const DVec2& b = polygon[(k + 1) % polygon.size()];
+        const double cross = a.x * b.y - a.y * b.x;
+        twice_area += cross;
+        sum += (a + b) * cross;
+    }
+    if (twice_area == 0.0) {  // degenerate sliver: the vertex average is still on it
+        for (const DVec2& p : polygon) sum += p;
+        return sum / static_cast<double>(polygon.size());
+    }
+    return sum / (3.0 * twice_area);
+}
+
+size_t texelIndex(const LightmapImage& image, int x, int y) { return static_cast<size_t>(y) * image.width + x; }
+
+}  // namespace
+
+bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane) {
+    const double size = 1.0 / chart.texels_per_metre;
+    const DVec2 lo = chart.min_plane + DVec2(i, j) * size;
+    const DVec2 hi = lo + DVec2(size);
+    double best = 0.0;
+    for (const ChartFace& face : chart.faces) {
+        const std::vector<DVec2> piece = clipToRectangle(face.p_plane, lo, hi);
+        if (piece.empty()) continue;
+        const double area = polygonArea(piece);
+        if (area > best) {
+            best = area;
+            p_plane = polygonCentroid(piece);
+        }
+    }
+    return best > 0.0;
+}
+
+Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads) {
+    Lightmaps lightmaps;
+    lightmaps.layout = std::move(layout);
+    for (const LightmapAtlas& atlas : lightmaps.layout.atlases) {
+        LightmapImage image;
+        image.width = atlas.width;
+        image.height = atlas.height;
+        image.rgb.assign(static_cast<size_t>(atlas.width) * atlas.height * 3, 0.0f);
+        image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
+        lightmaps.images.push_back(std::move(image));
+    }
+    tbb::task_arena arena(threads > 0 ? threads : tbb::info::default_concurrency());
+    for (const LightmapChart& chart : lightmaps.layout.charts) {
+        if (chart.atlas < 0) continue;
+        LightmapImage& image = lightmaps.images[chart.atlas];
+        const size_t texels = static_cast<size_t>(chart.width) * chart.height;
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, texels, 64), [&](const tbb::blocked_range<size_t>& range) {
+                for (size_t t = range.begin(); t < range.end(); ++t) {
+                    const int i = static_cast<int>(t % chart.width), j = static_cast<int>(t / chart.width);
+                    DVec2 p_plane;
+                    if (!texelSamplePoint(chart, i, j, p_plane)) continue;
+                    const DVec3 value = irradiance(chart.worldPoint(p_plane), chart.normal_world) / kPi;
+                    const size_t at = texelIndex(image, chart.x + i, chart.y + j);
+                    for (int c = 0; c < 3; ++c) image.rgb[3 * at + c] = static_cast<float>(value[c]);
+                    image.state[at] = TexelState::Covered;
+                }
+            });
+        });
+        for (int j = 0; j < chart.height; ++j)
+            for (int i = 0; i < chart.width; ++i)
+                lightmaps.evaluated_texels += image.state[texelIndex(image, chart.x + i, chart.y + j)] == TexelState::Covered;
+    }
+    dilateLightmaps(lightmaps, padding);
+    return lightmaps;
+}
+
+void dilateLightmaps(Lightmaps& lightmaps, int padding) {
+    padding = std::max(padding, 0);
+    for (const LightmapChart& chart : lightmaps.layout.charts) {
+        if (chart.atlas < 0) continue;
+        LightmapImage& image = lightmaps.images[chart.atlas];
+        const int x0 = std::max(chart.x - padding, 0), y0 = std::max(chart.y - padding, 0);
+        const int x1 = std::min(chart.x + chart.width + padding, image.width);
+        const int y1 = std::min(chart.y + chart.height + padding, image.height);
+        bool any_filled = false;
+        for (int y = chart.y; y < chart.y + chart.height && !any_filled; ++y)
+            for (int x = chart.x; x < chart.x + chart.width; ++x)
+                if (image.state[texelIndex(image, x, y)] != TexelState::Empty) any_filled = true;
+        if (!any_filled) continue;  // a chart with no covered texel stays black
+        for (bool changed = true; changed;) {
+            changed = false;
+            std::vector<std::pair<size_t, DVec3>> fills;  // applied after the pass: a pass reads only older texels
+            for (int y = y0; y < y1; ++y) {
+                for (int x = x0; x < x1; ++x) {
+                    if (image.state[texelIndex(image, x, y)] != TexelState::Empty) continue;
+                    DVec3 sum(0.0);
+                    int count = 0;
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx) {
+                            const int nx = x + dx, ny = y + dy;
+                            if (nx < x0 || ny < y0 || nx >= x1 || ny >= y1) continue;
+                            const size_t n = texelIndex(image, nx, ny);
+                            if (image.state[n] == TexelState::Empty) continue;
+                            sum += DVec3(image.rgb[3 * n], image.rgb[3 * n + 1], image.rgb[3 * n + 2]);
+                            ++count;
+                        }
+                    if (count > 0) fills.emplace_back(texelIndex(image, x, y), sum / static_cast<double>(count));
+                }
+            }
+            for (const auto& [at, value] : fills) {
+                for (int c = 0; c < 3; ++c) image.rgb[3 * at + c] = static_cast<float>(value[c]);
+                image.state[at] = TexelState::Dilated;
+            }
+            changed = !fills.empty();
+        }
+    }
+}
+
+bool bakeLightmaps(const Scene& scene, const Solution& solution, const LightmapOptions& options, Lightmaps& lightmaps,
+                   Diagnostics& diagnostics) {
+    LightmapLayout layout;
+    if (!packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics)) return false;
+    const IrradianceFunction irradiance = [&solution](const DVec3& p, const DVec3& n) {
+        return probeIrradiance(solution, p, n);
+    };
+    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, solution.options.threads);
+    return true;
+}
+
+}  // namespace radbake

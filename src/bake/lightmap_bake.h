@@ -1,0 +1,53 @@
+#pragma once
+// Lightmap texels: each chart texel is evaluated at the part of the chart's geometry it
+// covers, then the texels around charts are filled by dilation so bilinear filtering never
+// pulls in black. Values are H / pi like the vertex bake (DESIGN.md section 2).
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "bake/lightmap_charts.h"
+#include "bake/lightmap_pack.h"
+#include "core/diagnostics.h"
+#include "core/math.h"
+
+namespace radbake {
+
+struct Solution;
+
+enum class TexelState : uint8_t { Empty = 0, Dilated = 1, Covered = 2 };
+
+struct LightmapImage {
+    int width = 0, height = 0;
+    std::vector<float> rgb;          // width * height * 3, row 0 at the top
+    std::vector<TexelState> state;   // width * height
+};
+
+struct Lightmaps {
+    LightmapLayout layout;
+    std::vector<LightmapImage> images;  // one per atlas
+    size_t evaluated_texels = 0;
+};
+
+// Irradiance H (W/m^2) at a point on a surface facing `normal`; probeIrradiance in a bake.
+using IrradianceFunction = std::function<DVec3(const DVec3& p_world, const DVec3& normal_world)>;
+
+// Where a texel is evaluated: the centroid of the largest piece of the chart's faces inside
+// the texel square (a convex piece of one triangle, so the point lies on the surface, never
+// in a gap of the chart or beyond its edge). False when the texel covers no geometry.
+bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane);
+
+// Evaluates every covered texel (value = H / pi) and dilates. `threads` <= 0: all cores.
+// Each texel writes its own slot, so the images do not depend on the thread count.
+Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads);
+
+// Fills Empty texels inside each chart's padded rectangle from their filled 8-neighbours
+// (the average of those filled in the previous pass), pass after pass until the rectangle
+// is full; texels of one chart never take light from another chart.
+void dilateLightmaps(Lightmaps& lightmaps, int padding);
+
+// The whole lightmap stage: charts, packing, texels, dilation. False after reporting.
+bool bakeLightmaps(const Scene& scene, const Solution& solution, const LightmapOptions& options, Lightmaps& lightmaps,
+                   Diagnostics& diagnostics);
+
+}  // namespace radbake

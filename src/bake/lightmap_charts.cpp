@@ -1,0 +1,235 @@
+// Charts: coplanar connected triangles of a mesh, grown from a seed triangle across shared
+// edges, projected onto the seed's plane and cut along a texel-aligned grid when larger
+// than the cap.
+#include "bake/lightmap_charts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <unordered_map>
+
+namespace radbake {
+namespace {
+
+// Tolerances scale with the scene's extent (bounding-box diagonal):
+// - vertices closer than kWeld * extent are one vertex for connectivity (float positions
+//   carry ~1e-7 relative rounding, transforms a little more);
+// - a triangle is coplanar with a chart when its normal is within ~0.8 degrees of the
+//   seed's (1 - cos = kNormal) and its corners are within kPlane * extent of the plane;
+// - triangles with area below kDegenerate * extent^2 are dropped (no texel can see them).
+constexpr double kWeld = 1e-6;
+constexpr double kNormal = 1e-4;
+constexpr double kPlane = 1e-5;
+constexpr double kDegenerate = 1e-14;
+
+double sceneExtent(const Scene& scene) {
+    DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const Mesh& mesh : scene.meshes)
+        for (const Vec3& p : mesh.positions) {
+            lo = glm::min(lo, DVec3(p));
+            hi = glm::max(hi, DVec3(p));
+        }
+    return hi.x >= lo.x ? std::max(glm::length(hi - lo), 1e-9) : 1.0;
+}
+
+// Welded vertex ids: positions quantised to cells of `weld` share an id.
+std::vector<uint32_t> weldVertices(const Mesh& mesh, double weld) {
+    std::map<std::array<int64_t, 3>, uint32_t> ids;
+    std::vector<uint32_t> welded(mesh.positions.size());
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+        const DVec3 q = glm::floor(DVec3(mesh.positions[v]) / weld + 0.5);
+        const std::array<int64_t, 3> key{static_cast<int64_t>(q.x), static_cast<int64_t>(q.y), static_cast<int64_t>(q.z)};
+        welded[v] = ids.emplace(key, static_cast<uint32_t>(ids.size())).first->second;
+    }
+    return welded;
+}
+
+uint64_t edgeKey(uint32_t a, uint32_t b) {
+    if (a > b) std::swap(a, b);
+    return (uint64_t{a} << 32) | b;
+}
+
+struct TriangleInfo {
+    std::array<DVec3, 3> p;
+    DVec3 normal{0.0};
+    bool degenerate = true;
+};
+
+// The world axis most parallel to the plane, made orthogonal to the normal: walls and
+// floors get texel rows along world axes, so their charts are tight rectangles.
+void planeFrame(LightmapChart& chart, const DVec3& normal, const DVec3& origin) {
+    int k = 0;
+    for (int i = 1; i < 3; ++i)
+        if (std::fabs(normal[i]) < std::fabs(normal[k])) k = i;
+    DVec3 axis(0.0);
+    axis[k] = 1.0;
+    chart.normal_world = normal;
+    chart.u_world = glm::normalize(axis - normal * glm::dot(normal, axis));
+    chart.v_world = glm::cross(normal, chart.u_world);
+    chart.origin_world = origin;
+}
+
+DVec2 toPlane(const LightmapChart& chart, const DVec3& p_world) {
+    const DVec3 d = p_world - chart.origin_world;
+    return DVec2(glm::dot(d, chart.u_world), glm::dot(d, chart.v_world));
+}
+
+// Sutherland-Hodgman against one axis-aligned half-plane: keep side * (p[axis] - bound) <= 0.
+std::vector<DVec2> clipHalfPlane(const std::vector<DVec2>& polygon, int axis, double bound, double side) {
+    std::vector<DVec2> out;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const DVec2& a = polygon[i];
+        const DVec2& b = polygon[(i + 1) % polygon.size()];
+        const double da = side * (a[axis] - bound), db = side * (b[axis] - bound);
+        if (da <= 0.0) out.push_back(a);
+        if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) {
+            DVec2 crossing = a + (b - a) * (da / (da - db));
+            crossing[axis] = bound;  // exactly on the cell edge
+            out.push_back(crossing);
+        }
+    }
+    return out;
+}
+
+// Texels needed for `metres` at the density; the small slack keeps an extent of exactly
+// n texels (a cut cell) from rounding up to n + 1.
+int texelsFor(double metres, const LightmapOptions& options) {
+    const int n = static_cast<int>(std::ceil(metres * options.texel_density - 1e-6));
+    return std::max(n, std::max(options.min_chart_texels, 1));
+}
+
+void fitToFaces(LightmapChart& chart, const LightmapOptions& options) {
+    DVec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    chart.area = 0.0;
+    for (const ChartFace& face : chart.faces) {
+        for (const DVec2& p : face.p_plane) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        chart.area += polygonArea(face.p_plane);
+    }
+    chart.min_plane = lo;
+    chart.texels_per_metre = options.texel_density;
+    chart.width = texelsFor(hi.x - lo.x, options);
+    chart.height = texelsFor(hi.y - lo.y, options);
+}
+
+// One region's chart, or its pieces on a grid of cap-sized cells when it exceeds the cap.
+void emitCharts(LightmapChart region, int cap, double area_floor, const LightmapOptions& options,
+                std::vector<LightmapChart>& charts) {
+    fitToFaces(region, options);
+    if (region.width <= cap && region.height <= cap) {
+        charts.push_back(std::move(region));
+        return;
+    }
+    const double cell = cap / options.texel_density;  // metres; cells align with the texel grid
+    const int cells_u = (region.width + cap - 1) / cap, cells_v = (region.height + cap - 1) / cap;
+    for (int j = 0; j < cells_v; ++j) {
+        for (int i = 0; i < cells_u; ++i) {
+            const DVec2 lo = region.min_plane + DVec2(i, j) * cell;
+            LightmapChart piece = region;
+            piece.faces.clear();
+            for (const ChartFace& face : region.faces) {
+                std::vector<DVec2> clipped = clipToRectangle(face.p_plane, lo, lo + DVec2(cell));
+                if (!clipped.empty() && polygonArea(clipped) > area_floor)
+                    piece.faces.push_back(ChartFace{face.triangle, std::move(clipped)});
+            }
+            if (piece.faces.empty()) continue;
+            fitToFaces(piece, options);
+            piece.width = std::min(piece.width, cap);  // clipped to a cell: at most cap texels
+            piece.height = std::min(piece.height, cap);
+            charts.push_back(std::move(piece));
+        }
+    }
+}
+
+void meshCharts(const Scene& scene, uint32_t m, double extent, int cap, const LightmapOptions& options,
+                std::vector<LightmapChart>& charts) {
+    const Mesh& mesh = scene.meshes[m];
+    const std::vector<uint32_t> welded = weldVertices(mesh, kWeld * extent);
+    std::vector<TriangleInfo> info(mesh.triangles.size());
+    std::unordered_map<uint64_t, std::vector<uint32_t>> edges;
+    const double area_floor = kDegenerate * extent * extent;
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const UVec3& tri = mesh.triangles[t];
+        if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() || tri.z >= mesh.positions.size()) continue;
+        TriangleInfo& ti = info[t];
+        for (int k = 0; k < 3; ++k) ti.p[k] = DVec3(mesh.positions[tri[k]]);
+        const DVec3 cross = glm::cross(ti.p[1] - ti.p[0], ti.p[2] - ti.p[0]);
+        const double twice_area = glm::length(cross);
+        if (!(twice_area > 2.0 * area_floor)) continue;
+        ti.normal = cross / twice_area;
+        ti.degenerate = false;
+        for (int k = 0; k < 3; ++k) edges[edgeKey(welded[tri[k]], welded[tri[(k + 1) % 3]])].push_back(t);
+    }
+
+    std::vector<bool> assigned(mesh.triangles.size(), false);
+    for (uint32_t seed = 0; seed < mesh.triangles.size(); ++seed) {
+        if (assigned[seed] || info[seed].degenerate) continue;
+        const DVec3 normal = info[seed].normal;
+        const double offset = glm::dot(normal, info[seed].p[0]);
+        const auto coplanar = [&](uint32_t t) {
+            if (glm::dot(info[t].normal, normal) < 1.0 - kNormal) return false;
+            for (const DVec3& p : info[t].p)
+                if (std::fabs(glm::dot(normal, p) - offset) > kPlane * extent) return false;
+            return true;
+        };
+        LightmapChart region;
+        region.mesh = m;
+        region.material = mesh.material;
+        planeFrame(region, normal, info[seed].p[0]);
+        std::vector<uint32_t> stack{seed};
+        assigned[seed] = true;
+        std::vector<uint32_t> members;
+        while (!stack.empty()) {
+            const uint32_t t = stack.back();
+            stack.pop_back();
+            members.push_back(t);
+            const UVec3& tri = mesh.triangles[t];
+            for (int k = 0; k < 3; ++k) {
+                for (uint32_t n : edges[edgeKey(welded[tri[k]], welded[tri[(k + 1) % 3]])]) {
+                    if (assigned[n] || info[n].degenerate || !coplanar(n)) continue;
+                    assigned[n] = true;
+                    stack.push_back(n);
+                }
+            }
+        }
+        std::sort(members.begin(), members.end());  // faces in triangle order, whatever the walk
+        for (uint32_t t : members)
+            region.faces.push_back(
+                ChartFace{t, {toPlane(region, info[t].p[0]), toPlane(region, info[t].p[1]), toPlane(region, info[t].p[2])}});
+        emitCharts(std::move(region), cap, area_floor, options, charts);
+    }
+}
+
+}  // namespace
+
+std::vector<DVec2> clipToRectangle(std::vector<DVec2> polygon, const DVec2& lo, const DVec2& hi) {
+    for (int axis = 0; axis < 2 && polygon.size() >= 3; ++axis) {
+        polygon = clipHalfPlane(polygon, axis, lo[axis], -1.0);
+        if (polygon.size() >= 3) polygon = clipHalfPlane(polygon, axis, hi[axis], 1.0);
+    }
+    return polygon.size() >= 3 ? polygon : std::vector<DVec2>{};
+}
+
+double polygonArea(const std::vector<DVec2>& polygon) {
+    double twice = 0.0;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const DVec2& a = polygon[i];
+        const DVec2& b = polygon[(i + 1) % polygon.size()];
+        twice += a.x * b.y - a.y * b.x;
+    }
+    return 0.5 * twice;
+}
+
+std::vector<LightmapChart> buildLightmapCharts(const Scene& scene, const LightmapOptions& options) {
+    std::vector<LightmapChart> charts;
+    const double extent = sceneExtent(scene);
+    // A chart must fit an atlas with its padding on both sides.
+    const int cap = std::max(1, std::min(options.max_chart_texels, options.atlas_size - 2 * options.padding));
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) meshCharts(scene, m, extent, cap, options, charts);
+    return charts;
+}
+
+}  // namespace radbake

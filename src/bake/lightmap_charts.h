@@ -1,0 +1,82 @@
+#pragma once
+// Lightmap charts and their packing into atlases (issue 5). A chart is a connected set of
+// coplanar triangles of one mesh (so one material), projected onto its plane and measured
+// in texels at a fixed texel density; charts larger than the cap are cut into pieces along
+// a grid in their plane, so one huge floor cannot eat an atlas.
+//
+// Texel frame: a chart's texel (i, j) covers plane coordinates
+//   [min_plane.x + i / d, min_plane.x + (i + 1) / d] x [min_plane.y + j / d, ...]
+// with d = texels_per_metre; in its atlas that texel is at column x + i, row y + j (row 0 is
+// the image's top row, as glTF's TEXCOORD and the EXR file have it).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+struct LightmapOptions {
+    double texel_density = 16.0;  // --texel-density: texels per metre
+    int max_chart_texels = 256;   // the cap: no chart side exceeds this; larger regions are split
+    int min_chart_texels = 2;     // no chart side is smaller, however small its region
+    int atlas_size = 1024;        // --atlas-size: atlases are at most this many texels a side
+    int padding = 2;              // texels around every chart that belong to it alone (dilation fills them)
+};
+
+// The part of one source triangle that lies in a chart: the whole triangle (3 points) or,
+// in a chart cut by the cap, the triangle clipped to the chart's cell (up to 7 points).
+struct ChartFace {
+    uint32_t triangle = 0;           // index into Mesh::triangles
+    std::vector<DVec2> p_plane;      // counter-clockwise, metres in the chart's plane frame
+};
+
+struct LightmapChart {
+    uint32_t mesh = 0;
+    uint32_t material = 0;
+    // Plane frame: p_world = origin_world + p_plane.x * u_world + p_plane.y * v_world.
+    DVec3 origin_world{0.0};
+    DVec3 u_world{1.0, 0.0, 0.0}, v_world{0.0, 1.0, 0.0}, normal_world{0.0, 0.0, 1.0};
+    DVec2 min_plane{0.0};  // plane coordinates of the corner of texel (0, 0)
+    double texels_per_metre = 1.0;
+    int width = 0, height = 0;  // texels, padding excluded
+    std::vector<ChartFace> faces;
+    double area = 0.0;  // m^2 of geometry in the chart
+    // Placement, filled by packLightmapCharts: texel (0, 0) of the chart is at column x, row y.
+    int atlas = -1;
+    int x = 0, y = 0;
+
+    // Continuous atlas texel coordinates of a plane point (texel centres at +0.5).
+    DVec2 atlasTexel(const DVec2& p_plane) const {
+        return DVec2(x, y) + (p_plane - min_plane) * texels_per_metre;
+    }
+    DVec3 worldPoint(const DVec2& p_plane) const { return origin_world + p_plane.x * u_world + p_plane.y * v_world; }
+};
+
+struct LightmapAtlas {
+    int width = 0, height = 0;
+    std::vector<uint32_t> charts;  // indices into LightmapLayout::charts
+};
+
+struct LightmapLayout {
+    std::vector<LightmapChart> charts;
+    std::vector<LightmapAtlas> atlases;
+    double occupancy = 0.0;         // chart texels (padding excluded) / atlas texels
+    double padded_occupancy = 0.0;  // the same with each chart's padding counted
+};
+
+// Every non-degenerate triangle of every mesh lands in exactly one chart (or, when split,
+// its pieces in several); charts come out mesh by mesh, in triangle order. Emitters get
+// charts too (their texels hold what they receive). Unplaced (atlas == -1).
+std::vector<LightmapChart> buildLightmapCharts(const Scene& scene, const LightmapOptions& options);
+
+// The part of a convex polygon inside the rectangle [lo, hi] (empty when fewer than 3 points remain).
+std::vector<DVec2> clipToRectangle(std::vector<DVec2> polygon, const DVec2& lo, const DVec2& hi);
+
+// Signed area of a polygon in the plane (positive when counter-clockwise).
+double polygonArea(const std::vector<DVec2>& polygon);
+
+}  // namespace radbake

@@ -1,0 +1,183 @@
+// Lightmap charts: a cube gives 6 charts of its faces; coplanar pieces join only when
+// connected; a floor larger than the cap is cut into pieces that keep its whole area;
+// every face lies inside its chart's texel rectangle.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <set>
+
+#include "bake/lightmap_charts.h"
+
+using namespace radbake;
+
+namespace {
+
+// Adds a convex polygon (counter-clockwise from the front) as a fan of triangles.
+void addQuad(Mesh& mesh, const std::vector<Vec3>& loop, bool share_vertices) {
+    uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+    std::vector<uint32_t> ids;
+    for (const Vec3& p : loop) {
+        uint32_t id = base++;
+        if (share_vertices)
+            for (uint32_t v = 0; v < mesh.positions.size(); ++v)
+                if (mesh.positions[v] == p) id = v;
+        if (id >= mesh.positions.size()) {
+            id = static_cast<uint32_t>(mesh.positions.size());
+            mesh.positions.push_back(p);
+        }
+        ids.push_back(id);
+    }
+    for (size_t k = 1; k + 1 < ids.size(); ++k) {
+        mesh.triangles.push_back({ids[0], ids[k], ids[k + 1]});
+        mesh.triangle_polygon.push_back(mesh.polygon_count);
+    }
+    ++mesh.polygon_count;
+}
+
+Mesh cubeMesh(float s, bool share_vertices) {
+    Mesh mesh;
+    mesh.name = "cube";
+    const auto c = [s](int x, int y, int z) { return Vec3(x * s, y * s, z * s); };
+    addQuad(mesh, {c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)}, share_vertices);  // -Z
+    addQuad(mesh, {c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)}, share_vertices);  // +Z
+    addQuad(mesh, {c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)}, share_vertices);  // -Y
+    addQuad(mesh, {c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)}, share_vertices);  // +Y
+    addQuad(mesh, {c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)}, share_vertices);  // -X
+    addQuad(mesh, {c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1)}, share_vertices);  // +X
+    return mesh;
+}
+
+Scene sceneOf(std::vector<Mesh> meshes) {
+    Scene scene;
+    scene.name = "test";
+    scene.materials.resize(meshes.size());
+    for (uint32_t m = 0; m < meshes.size(); ++m) meshes[m].material = m;
+    scene.meshes = std::move(meshes);
+    return scene;
+}
+
+// Every face point lies inside the chart's texel rectangle (to rounding).
+void checkFacesInside(const LightmapChart& chart) {
+    for (const ChartFace& face : chart.faces)
+        for (const DVec2& p : face.p_plane) {
+            const DVec2 t = (p - chart.min_plane) * chart.texels_per_metre;
+            CHECK(t.x >= -1e-9);
+            CHECK(t.y >= -1e-9);
+            CHECK(t.x <= chart.width + 1e-6);
+            CHECK(t.y <= chart.height + 1e-6);
+        }
+}
+
+// Chart points map back onto the source triangle's plane in world space.
+void checkFacesOnTriangles(const Scene& scene, const LightmapChart& chart) {
+    const Mesh& mesh = scene.meshes[chart.mesh];
+    for (const ChartFace& face : chart.faces) {
+        const UVec3 tri = mesh.triangles[face.triangle];
+        const DVec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+        const DVec3 n = glm::normalize(glm::cross(b - a, c - a));
+        CHECK(glm::dot(n, chart.normal_world) == doctest::Approx(1.0));
+        for (const DVec2& p : face.p_plane) CHECK(std::fabs(glm::dot(chart.worldPoint(p) - a, n)) < 1e-5);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("a cube gives 6 charts, one per face, with shared or split vertices") {
+    for (bool share : {true, false}) {
+        CAPTURE(share);
+        const Scene scene = sceneOf({cubeMesh(2.0f, share)});
+        CHECK(scene.meshes[0].positions.size() == (share ? 8u : 24u));
+        LightmapOptions options;
+        options.texel_density = 10.0;
+        const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
+        REQUIRE(charts.size() == 6);
+        std::set<uint32_t> triangles;
+        std::set<std::array<int, 3>> normals;
+        for (const LightmapChart& chart : charts) {
+            CHECK(chart.faces.size() == 2);
+            CHECK(chart.area == doctest::Approx(4.0));
+            CHECK(chart.width == 20);
+            CHECK(chart.height == 20);
+            for (const ChartFace& face : chart.faces) triangles.insert(face.triangle);
+            normals.insert({static_cast<int>(std::lround(chart.normal_world.x)), static_cast<int>(std::lround(chart.normal_world.y)),
+                            static_cast<int>(std::lround(chart.normal_world.z))});
+            checkFacesInside(chart);
+            checkFacesOnTriangles(scene, chart);
+        }
+        CHECK(triangles.size() == 12);
+        CHECK(normals.size() == 6);
+    }
+}
+
+TEST_CASE("coplanar polygons join only when connected; tiny and degenerate ones") {
+    Mesh mesh;
+    // An L of three unit squares on z = 0 (connected), and a separate square at x = 5.
+    addQuad(mesh, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, true);
+    addQuad(mesh, {{1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}}, true);
+    addQuad(mesh, {{0, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}}, true);
+    addQuad(mesh, {{5, 0, 0}, {6, 0, 0}, {6, 1, 0}, {5, 1, 0}}, true);
+    // A 1 cm triangle and a degenerate one (three collinear points).
+    addQuad(mesh, {{8, 0, 0}, {8.01f, 0, 0}, {8, 0.01f, 0}}, true);
+    addQuad(mesh, {{9, 0, 0}, {9.5f, 0, 0}, {10, 0, 0}}, true);
+    const Scene scene = sceneOf({mesh});
+    LightmapOptions options;
+    options.texel_density = 8.0;
+    options.min_chart_texels = 3;
+    const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
+    REQUIRE(charts.size() == 3);
+    CHECK(charts[0].faces.size() == 6);
+    CHECK(charts[0].area == doctest::Approx(3.0));
+    CHECK(charts[0].width == 16);
+    CHECK(charts[0].height == 16);
+    CHECK(charts[1].faces.size() == 2);
+    CHECK(charts[1].width == 8);
+    CHECK(charts[2].faces.size() == 1);
+    CHECK(charts[2].width == 3);  // the minimum
+    CHECK(charts[2].height == 3);
+    CHECK(charts[2].area == doctest::Approx(0.5e-4).epsilon(1e-3));
+    for (const LightmapChart& chart : charts) checkFacesInside(chart);
+}
+
+TEST_CASE("a floor larger than the cap is split into cap-sized pieces that keep its area") {
+    Mesh floor;
+    addQuad(floor, {{0, 0, 0}, {0, 0, 4}, {10, 0, 4}, {10, 0, 0}}, true);  // 10 x 4 m, facing +Y
+    const Scene scene = sceneOf({floor});
+    LightmapOptions options;
+    options.texel_density = 16.0;  // 160 x 64 texels
+    options.max_chart_texels = 48;
+    const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
+    // ceil(160 / 48) = 4 columns by ceil(64 / 48) = 2 rows; the floor's axes are world X and Z.
+    REQUIRE(charts.size() == 8);
+    double area = 0.0;
+    std::multiset<std::pair<int, int>> sizes;
+    for (const LightmapChart& chart : charts) {
+        CHECK(chart.width <= 48);
+        CHECK(chart.height <= 48);
+        area += chart.area;
+        sizes.insert({std::max(chart.width, chart.height), std::min(chart.width, chart.height)});
+        checkFacesInside(chart);
+        checkFacesOnTriangles(scene, chart);
+    }
+    CHECK(area == doctest::Approx(40.0).epsilon(1e-9));
+    // Pieces: 3 full columns of 48 and one of 16, by rows of 48 and 16 texels.
+    CHECK(sizes == std::multiset<std::pair<int, int>>{{48, 48}, {48, 48}, {48, 48}, {48, 16}, {48, 16}, {48, 16}, {48, 16}, {16, 16}});
+
+    options.max_chart_texels = 1000;
+    const std::vector<LightmapChart> whole = buildLightmapCharts(scene, options);
+    REQUIRE(whole.size() == 1);
+    CHECK(std::max(whole[0].width, whole[0].height) == 160);
+    CHECK(std::min(whole[0].width, whole[0].height) == 64);
+}
+
+TEST_CASE("the cap never exceeds what an atlas holds with padding") {
+    Mesh floor;
+    addQuad(floor, {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}}, true);
+    LightmapOptions options;
+    options.texel_density = 32.0;  // 128 texels
+    options.max_chart_texels = 1000;
+    options.atlas_size = 64;
+    options.padding = 2;  // at most 60 texels a side
+    const std::vector<LightmapChart> charts = buildLightmapCharts(sceneOf({floor}), options);
+    CHECK(charts.size() == 9);  // ceil(128 / 60) = 3 by 3
+    for (const LightmapChart& chart : charts) CHECK(chart.width <= 60);
+}

@@ -1,0 +1,86 @@
+// Lightmap meshes: the same surface as the source (area, facing), split only at chart
+// seams, and every UV inside its chart's texel rectangle in [0, 1].
+#include <doctest/doctest.h>
+
+#include "bake/lightmap_mesh.h"
+#include "bake/lightmap_pack.h"
+
+using namespace radbake;
+
+namespace {
+
+double meshArea(const std::vector<Vec3>& positions, const std::vector<UVec3>& triangles, DVec3* normal_sum) {
+    double area = 0.0;
+    for (const UVec3& t : triangles) {
+        const DVec3 c = glm::cross(DVec3(positions[t.y]) - DVec3(positions[t.x]), DVec3(positions[t.z]) - DVec3(positions[t.x]));
+        area += 0.5 * glm::length(c);
+        if (normal_sum) *normal_sum += 0.5 * c;
+    }
+    return area;
+}
+
+Mesh boxWithoutBottom(float s) {
+    Mesh mesh;
+    const auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+        const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+        mesh.positions.insert(mesh.positions.end(), {a, b, c, d});
+        mesh.triangles.push_back({base, base + 1, base + 2});
+        mesh.triangles.push_back({base, base + 2, base + 3});
+        mesh.triangle_polygon.push_back(mesh.polygon_count);
+        mesh.triangle_polygon.push_back(mesh.polygon_count++);
+    };
+    quad({0, s, 0}, {0, s, s}, {s, s, s}, {s, s, 0});  // top, +Y
+    quad({0, 0, 0}, {0, s, 0}, {s, s, 0}, {s, 0, 0});  // -Z
+    quad({0, 0, s}, {s, 0, s}, {s, s, s}, {0, s, s});  // +Z
+    return mesh;
+}
+
+}  // namespace
+
+TEST_CASE("lightmap meshes keep the surface and put every UV inside its chart") {
+    Scene scene;
+    scene.materials.resize(1);
+    scene.meshes = {boxWithoutBottom(3.0f)};
+    LightmapOptions options;
+    options.texel_density = 16.0;  // 48 texels a side
+    options.max_chart_texels = 20; // the cap cuts every face into 3 x 3 pieces
+    options.atlas_size = 256;
+    LightmapLayout layout;
+    Diagnostics diagnostics;
+    REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
+    CHECK(layout.charts.size() == 27);
+    const std::vector<LightmapMesh> meshes = lightmapMeshes(scene, layout);
+    REQUIRE(meshes.size() == 1);
+    const LightmapMesh& mesh = meshes[0];
+    DVec3 source_normal(0.0), normal(0.0);
+    CHECK(meshArea(mesh.positions, mesh.triangles, &normal) ==
+          doctest::Approx(meshArea(scene.meshes[0].positions, scene.meshes[0].triangles, &source_normal)));
+    CHECK(glm::length(normal - source_normal) < 1e-4);  // same facing, piece by piece summed
+    CHECK(mesh.source_triangle.size() == mesh.triangles.size());
+    // Per chart (in order), its vertices' UVs lie in its texel rectangle.
+    for (size_t v = 0; v < mesh.uv.size(); ++v) {
+        CHECK(mesh.uv[v].x >= 0.0f);
+        CHECK(mesh.uv[v].y >= 0.0f);
+        CHECK(mesh.uv[v].x <= 1.0f);
+        CHECK(mesh.uv[v].y <= 1.0f);
+    }
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const UVec3 tri = mesh.triangles[t];
+        bool inside_some_chart = false;
+        for (const LightmapChart& chart : layout.charts) {
+            const LightmapAtlas& atlas = layout.atlases[chart.atlas];
+            bool inside = chart.atlas == mesh.atlas[tri.x];
+            for (int k = 0; k < 3; ++k) {
+                const Vec2 uv = mesh.uv[tri[k]];
+                const double x = uv.x * atlas.width, y = uv.y * atlas.height;
+                inside = inside && x >= chart.x - 1e-3 && x <= chart.x + chart.width + 1e-3 && y >= chart.y - 1e-3 &&
+                         y <= chart.y + chart.height + 1e-3;
+            }
+            inside_some_chart = inside_some_chart || inside;
+        }
+        CHECK(inside_some_chart);
+    }
+    // Pieces of a 3 x 3 cut share vertices only within a piece: 9 pieces of a quad have
+    // 4 corners each when the cut misses the diagonal's ends, more where it crosses it.
+    CHECK(mesh.positions.size() > 27 * 4);
+}

@@ -1,0 +1,255 @@
+// Golden-file comparison: identical copies pass, a one-texel / one-vertex / one-probe change
+// is found and named, values within tolerance pass, and layouts that differ give 2.
+#include <doctest/doctest.h>
+
+#include <stdlib.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "export/compare.h"
+#include "export/exr_io.h"
+#include "export/gltf_writer.h"
+#include "export/ply_writer.h"
+#include "export/probes.h"
+
+using namespace radbake;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CompareTempDir {
+    fs::path path;
+    CompareTempDir() {
+        std::string pattern = (fs::temp_directory_path() / "radbake-compare-XXXXXX").string();
+        REQUIRE(mkdtemp(pattern.data()) != nullptr);
+        path = pattern;
+    }
+    ~CompareTempDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+};
+
+Scene twoMeshScene() {
+    Scene scene;
+    scene.name = "room";
+    scene.materials.resize(1);
+    Mesh a;
+    a.name = "a";
+    a.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    a.triangles = {{0, 1, 2}};
+    a.triangle_polygon = {0};
+    a.polygon_count = 1;
+    Mesh b;
+    b.name = "b";
+    b.positions = {{0, 0, 1}, {0, 0, 2}, {0, 3, 1}, {0, 3, 2}};
+    b.triangles = {{0, 1, 2}, {2, 1, 3}};
+    b.triangle_polygon = {0, 0};
+    b.polygon_count = 1;
+    scene.meshes = {a, b};
+    return scene;
+}
+
+struct BakeFiles {
+    Scene scene = twoMeshScene();
+    VertexBake bake;
+    std::vector<Probe> probes;
+    std::vector<DVec3> irradiance;
+    RgbImage image;
+
+    BakeFiles() {
+        bake.values = {{{0.1f, 0.2f, 0.3f}, {1.0f, 2.0f, 3.0f}, {0.0f, 0.5f, 0.25f}},
+                       {{4.0f, 4.5f, 5.0f}, {0.7f, 0.8f, 0.9f}, {1.5f, 1.25f, 1.125f}, {2.0f, 0.0f, 0.0f}}};
+        probes = {Probe{{0, 0, 0}, {0, 0, 1}, {}}, Probe{{1, 2, 3}, {0, 1, 0}, {}}};
+        irradiance = {{1.0, 2.0, 3.0}, {10.0, 20.0, 30.0}};
+        image.width = 6;
+        image.height = 4;
+        for (int i = 0; i < 6 * 4 * 3; ++i) image.rgb.push_back(0.25f * static_cast<float>(i % 7));
+    }
+
+    void write(const fs::path& dir) const {
+        Diagnostics diagnostics;
+        fs::create_directories(dir / "lightmaps");
+        REQUIRE(writeGlb(dir / "room.glb", scene, bake, GltfOptions{}, diagnostics));
+        REQUIRE(writePly(dir / "room.ply", scene, bake, PlyOptions{}, diagnostics));
+        REQUIRE(writeProbesCsv(dir / "probes.csv", probes, irradiance, diagnostics));
+        REQUIRE(writeExr(dir / "lightmaps" / "room_0.exr", image, ExrWriteOptions{}, diagnostics));
+        std::ofstream(dir / "stats.json") << "{\"ignored\": true}\n";
+    }
+};
+
+const FileDifference& fileNamed(const CompareResult& result, const std::string& name) {
+    for (const FileDifference& file : result.files)
+        if (file.file == name) return file;
+    FAIL("no result for " << name);
+    return result.files.front();
+}
+
+// The channel whose worst place fails, or nullptr.
+const ChannelDifference* failingChannel(const FileDifference& file) {
+    for (const ChannelDifference& channel : file.channels)
+        if (channel.worst_excess > 1.0) return &channel;
+    return nullptr;
+}
+
+}  // namespace
+
+TEST_CASE("identical bake directories compare equal, file by file") {
+    CompareTempDir tmp;
+    BakeFiles files;
+    files.write(tmp.path / "a");
+    files.write(tmp.path / "b");
+    const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+    CHECK(result.exitCode() == 0);
+    CHECK(result.problems.empty());
+    REQUIRE(result.files.size() == 4);  // stats.json is not compared
+    CHECK(result.files[0].file == "lightmaps/room_0.exr");
+    CHECK(result.files[0].samples == 24);
+    CHECK(fileNamed(result, "room.glb").samples == 7);
+    CHECK(fileNamed(result, "room.ply").samples == 7);
+    CHECK(fileNamed(result, "probes.csv").samples == 2);
+    for (const FileDifference& file : result.files) {
+        CHECK(file.comparable);
+        REQUIRE(file.channels.size() == 3);
+        for (const ChannelDifference& channel : file.channels) CHECK(channel.max_abs == 0.0);
+    }
+}
+
+TEST_CASE("a one-texel change is found and named") {
+    CompareTempDir tmp;
+    BakeFiles files;
+    files.write(tmp.path / "a");
+    files.image.rgb[(2 * 6 + 3) * 3 + 1] += 0.5f;  // texel x=3, y=2, green
+    files.write(tmp.path / "b");
+    const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+    CHECK(result.exitCode() == 1);
+    const FileDifference& exr = fileNamed(result, "lightmaps/room_0.exr");
+    CHECK_FALSE(exr.within);
+    const ChannelDifference* channel = failingChannel(exr);
+    REQUIRE(channel);
+    CHECK(channel->name == "G");
+    CHECK(channel->worst_place == "texel (3, 2)");
+    CHECK(channel->max_abs == doctest::Approx(0.5));
+    CHECK(channel->rmse == doctest::Approx(0.5 / std::sqrt(24.0)));
+    CHECK(exr.channels[0].max_abs == 0.0);
+    CHECK(fileNamed(result, "room.glb").within);
+    CHECK(formatCompareResult(result).find("DIFFERS lightmaps/room_0.exr: texel (3, 2) G") != std::string::npos);
+}
+
+TEST_CASE("a one-vertex change is found in the glb and the ply, a probe change in probes.csv") {
+    CompareTempDir tmp;
+    BakeFiles files;
+    files.write(tmp.path / "a");
+    files.bake.values[1][2].z = 1.2f;  // mesh b, vertex 2, blue: 1.125 -> 1.2
+    files.irradiance[1].x = 10.5;
+    files.write(tmp.path / "b");
+    const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+    CHECK(result.exitCode() == 1);
+
+    const ChannelDifference* glb = failingChannel(fileNamed(result, "room.glb"));
+    REQUIRE(glb);
+    CHECK(glb->name == "B");
+    CHECK(glb->worst_place == "mesh 'b' vertex 2");
+    CHECK(glb->worst_a == 1.125);
+    CHECK(glb->worst_b == doctest::Approx(1.2));
+    CHECK(glb->max_rel == doctest::Approx(0.075 / 1.2));
+
+    const ChannelDifference* ply = failingChannel(fileNamed(result, "room.ply"));
+    REQUIRE(ply);
+    CHECK(ply->name == "blue");
+    CHECK(ply->worst_place == "vertex 5");  // merged: mesh a has 3 vertices
+
+    const ChannelDifference* csv = failingChannel(fileNamed(result, "probes.csv"));
+    REQUIRE(csv);
+    CHECK(csv->name == "r");
+    CHECK(csv->worst_place == "probe 1");
+    CHECK(csv->max_abs == doctest::Approx(0.5));
+    CHECK(fileNamed(result, "lightmaps/room_0.exr").within);
+}
+
+TEST_CASE("differences within either tolerance pass; a NaN on one side never does") {
+    CompareTempDir tmp;
+    BakeFiles files;
+    files.write(tmp.path / "a");
+    files.bake.values[0][1].x *= 1.0f + 2e-4f;  // relative 2e-4 < 1e-3
+    files.bake.values[0][2].x = 5e-7f;           // absolute 5e-7 < 1e-6 (relative 1)
+    files.write(tmp.path / "b");
+    const CompareResult close = comparePaths(tmp.path / "a" / "room.glb", tmp.path / "b" / "room.glb", CompareOptions{});
+    CHECK(close.exitCode() == 0);
+    REQUIRE(close.files.size() == 1);
+    CHECK(close.files[0].channels[0].max_rel == doctest::Approx(1.0));
+    CHECK(close.files[0].channels[0].max_abs == doctest::Approx(2e-4).epsilon(0.01));
+
+    CompareOptions strict;
+    strict.rel_tol = 1e-4;
+    const CompareResult tight = comparePaths(tmp.path / "a" / "room.glb", tmp.path / "b" / "room.glb", strict);
+    CHECK(tight.exitCode() == 1);
+    CHECK(failingChannel(tight.files[0])->worst_place == "mesh 'a' vertex 1");
+
+    files.irradiance[0].y = std::numeric_limits<double>::quiet_NaN();
+    files.write(tmp.path / "c");
+    const CompareResult nan = comparePaths(tmp.path / "a" / "probes.csv", tmp.path / "c" / "probes.csv", CompareOptions{});
+    CHECK(nan.exitCode() == 1);
+    CHECK(failingChannel(nan.files[0])->worst_place == "probe 0");
+}
+
+TEST_CASE("different layouts, missing or extra files and mismatched kinds are not comparable") {
+    CompareTempDir tmp;
+    BakeFiles files;
+    files.write(tmp.path / "a");
+
+    SUBCASE("image size") {
+        files.image.width = 4;
+        files.image.rgb.resize(4 * 4 * 3);
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 2);
+        CHECK_FALSE(fileNamed(result, "lightmaps/room_0.exr").comparable);
+        CHECK(fileNamed(result, "lightmaps/room_0.exr").problem == "different layouts (6x4 image vs 4x4 image)");
+    }
+    SUBCASE("vertex count") {
+        files.scene.meshes[1].positions.push_back({1, 1, 1});
+        files.bake.values[1].push_back({0, 0, 0});
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 2);
+        CHECK_FALSE(fileNamed(result, "room.glb").comparable);
+        CHECK_FALSE(fileNamed(result, "room.ply").comparable);
+        CHECK(fileNamed(result, "room.ply").problem == "different layouts (7 vertices vs 8 vertices)");
+    }
+    SUBCASE("probe positions") {
+        files.probes[1].position.z = 3.5;
+        files.write(tmp.path / "b");
+        CHECK(comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{}).exitCode() == 2);
+    }
+    SUBCASE("a file missing from B, or only in B") {
+        files.write(tmp.path / "b");
+        fs::remove(tmp.path / "b" / "room.ply");
+        const CompareResult missing = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(missing.exitCode() == 2);
+        REQUIRE(missing.problems.size() == 1);
+        CHECK(missing.problems[0] == "room.ply is missing from " + (tmp.path / "b").string());
+        const CompareResult extra = comparePaths(tmp.path / "b", tmp.path / "a", CompareOptions{});
+        CHECK(extra.exitCode() == 2);
+        REQUIRE(extra.problems.size() == 1);
+        CHECK(extra.problems[0] == "room.ply is only in " + (tmp.path / "a").string());
+    }
+    SUBCASE("kinds, a directory with a file, nothing there, garbage") {
+        CHECK(comparePaths(tmp.path / "a" / "room.glb", tmp.path / "a" / "room.ply", CompareOptions{}).exitCode() == 2);
+        CHECK(comparePaths(tmp.path / "a", tmp.path / "a" / "room.ply", CompareOptions{}).exitCode() == 2);
+        const CompareResult none = comparePaths(tmp.path / "a", tmp.path / "nothing", CompareOptions{});
+        CHECK(none.exitCode() == 2);
+        REQUIRE(none.problems.size() == 1);
+        CHECK(none.problems[0] == (tmp.path / "nothing").string() + " does not exist");
+        fs::create_directories(tmp.path / "g");
+        std::ofstream(tmp.path / "g" / "room.glb") << "glTF garbage";
+        const CompareResult garbage = comparePaths(tmp.path / "a" / "room.glb", tmp.path / "g" / "room.glb", CompareOptions{});
+        CHECK(garbage.exitCode() == 2);
+        REQUIRE(garbage.files.size() == 1);
+        CHECK(garbage.files[0].problem.find((tmp.path / "g" / "room.glb").string()) == 0);
+    }
+}
