@@ -1,6 +1,8 @@
 // Evaluation of the solved hierarchy at arbitrary points: probes and baked vertices.
 #include <algorithm>
 #include <array>
+#include <span>
+#include <vector>
 
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
@@ -32,6 +34,17 @@ void elementPoints(std::span<const DVec3> loop, int n, std::vector<DVec3>& out) 
     out = stratifiedPolygonPoints(loop, n);
 }
 
+// A partially visible piece is split at most this many times below a leaf: with the size
+// rule below it only binds for a piece that is very close to the probe.
+constexpr int kMaxVisibilitySplits = 10;
+// Below a leaf, pieces with agreeing rays are split for the coarse rule at most this many
+// times: near a vertex in a room corner every neighbouring piece fails the rule, and splitting
+// them all ten levels deep cost ~7 ms per vertex in the Cornell Box.
+constexpr int kMaxCoarseSplits = 3;
+// Pieces below a partly visible one keep splitting for this many levels even when their own
+// rays agree, so an edge that slips between the rays of one level is found at the next.
+constexpr int kSuspectLevels = 2;
+
 struct Gatherer {
     const Solution& s;
     DVec3 point, normal, origin;
@@ -39,12 +52,54 @@ struct Gatherer {
     std::vector<DVec3> points;
     DVec3 sum{0.0};
 
-    double visibility(const Element& e) {
-        if (!s.rays) return 1.0;
-        elementPoints(polygonOf(s, e).vertices, s.options.probe_samples, points);
-        int open = 0;
-        for (const DVec3& q : points) open += s.rays->segmentBlocked(origin, q + lift * e.normal) ? 0 : 1;
-        return points.empty() ? 0.0 : static_cast<double>(open) / static_cast<double>(points.size());
+    // Unblocked fraction of an n x n grid of segments from the probe to the polygon.
+    // Returns the open count in `open` and the ray count in `total`.
+    void castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total) {
+        elementPoints(loop, std::max(2, s.options.probe_samples), points);
+        open = 0;
+        for (const DVec3& q : points) open += s.rays->segmentBlocked(origin, q + lift * loop_normal) ? 0 : 1;
+        total = static_cast<int>(points.size());
+    }
+
+    // A piece whose rays disagree (a shadow edge crosses it) is opened until its radius is
+    // below probe_visibility_ratio x its distance: a fixed 2x2 grid would give steps of 1/4
+    // of its light, and a penumbra narrower than the grid would be lost altogether.
+    bool fineEnough(const DVec3& centroid, double radius) const {
+        return radius <= s.options.probe_visibility_ratio * glm::length(centroid - point);
+    }
+    // Unanimous rays are trusted only on pieces below probe_visibility_coarse x distance: a
+    // sliver of light between the rays of a larger piece would read as black (a penumbra at 0).
+    bool coarseEnough(const DVec3& centroid, double radius) const {
+        return radius <= s.options.probe_visibility_coarse * glm::length(centroid - point);
+    }
+
+    // Light from the polygon `loop` of radiosity b, split for visibility only (a leaf's
+    // radiosity is uniform over it).
+    // `suspect`: levels a piece is still split below a partial ancestor though its own rays
+    // agree (an edge within a quarter side of a piece's border passes between its rays).
+    void gatherPiece(std::span<const DVec3> loop, const DVec3& loop_normal, const DVec3& b, int splits,
+                     int suspect) {
+        const double f = pointPolygonFormFactor(point, normal, loop, loop_normal);
+        if (!(f > 0.0)) return;
+        if (!s.rays) {
+            sum += f * b;
+            return;
+        }
+        int open = 0, total = 0;
+        castVisibility(loop, loop_normal, open, total);
+        const bool partial = open > 0 && open < total;
+        if (partial) suspect = kSuspectLevels;
+        if (splits < kMaxVisibilitySplits) {
+            Element piece;
+            setElementGeometry(piece, loop);
+            const bool coarse_split = splits < kMaxCoarseSplits && !coarseEnough(piece.centroid, piece.radius);
+            if (coarse_split || (suspect > 0 && !fineEnough(piece.centroid, piece.radius))) {
+                for (const std::vector<DVec3>& child : splitPolygon(loop))
+                    gatherPiece(child, loop_normal, b, splits + 1, suspect - 1);
+                return;
+            }
+        }
+        sum += f * (total > 0 ? static_cast<double>(open) / total : 0.0) * b;
     }
 
     void visit(uint32_t index) {
@@ -57,13 +112,30 @@ struct Gatherer {
         for (const DVec3& v : poly.vertices) above = above || glm::dot(normal, v - p) > 0.0;
         if (!above) return;  // wholly below the point's horizon
         const double distance = glm::length(e.centroid - p);
-        if (!e.isLeaf() && e.radius > s.options.probe_opening * distance) {
+        const double opening = s.rays ? std::min(s.options.probe_opening, s.options.probe_visibility_coarse)
+                                      : s.options.probe_opening;
+        if (!e.isLeaf() && e.radius > opening * distance) {
             for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
+            return;
+        }
+        if (e.isLeaf()) {
+            gatherPiece(poly.vertices, e.normal, e.radiosity, 0, 0);
             return;
         }
         const double f = pointPolygonFormFactor(p, normal, poly.vertices, e.normal);
         if (!(f > 0.0)) return;
-        sum += f * visibility(e) * e.radiosity;
+        if (!s.rays) {
+            sum += f * e.radiosity;
+            return;
+        }
+        int open = 0, total = 0;
+        castVisibility(poly.vertices, e.normal, open, total);
+        if (open > 0 && open < total && !fineEnough(e.centroid, e.radius)) {
+            // Partly hidden: the children carry their own radiosity, so open them.
+            for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
+            return;
+        }
+        sum += f * (total > 0 ? static_cast<double>(open) / total : 0.0) * e.radiosity;
     }
 };
 

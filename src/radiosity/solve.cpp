@@ -46,6 +46,28 @@ struct Operator {
     // solution). Each leaf's pushed irradiance is therefore scaled by
     //   sum over inherited links of V F(leaf centroid -> source) / sum of V F(link),
     // which is exact for uniform radiosity and keeps row sums at their geometric value.
+    // The point form factor to `source` averaged over the leaf: 2 x 2 Gauss points on a quad
+    // (the centroid alone is biased where the leaf touches the source: that bias, ~1e-5 of
+    // the row sums, read 3.7 % high in a closed room at rho = 0.999), the centroid otherwise.
+    double leafAverage(const Element& leaf, const PolygonView& source) const {
+        const PolygonView poly = polygonOf(s, leaf);
+        if (poly.vertices.size() != 4)
+            return pointPolygonFormFactor(leaf.centroid, leaf.normal, source.vertices, source.normal);
+        const auto& q = poly.vertices;
+        constexpr double kG = 0.28867513459481288225;
+        double sum = 0.0, weight = 0.0;
+        for (const double u : {0.5 - kG, 0.5 + kG})
+            for (const double v : {0.5 - kG, 0.5 + kG}) {
+                const DVec3 p = (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
+                const DVec3 du = (1 - v) * (q[1] - q[0]) + v * (q[2] - q[3]);
+                const DVec3 dv = (1 - u) * (q[3] - q[0]) + u * (q[2] - q[1]);
+                const double w = std::abs(glm::dot(glm::cross(du, dv), leaf.normal));
+                sum += w * pointPolygonFormFactor(p, leaf.normal, source.vertices, source.normal);
+                weight += w;
+            }
+        return weight > 0.0 ? sum / weight : 0.0;
+    }
+
     void computeCorrections() {
         correction.assign(leaves.size(), 1.0);
         std::vector<double> row_hier(leaves.size(), 0.0), row_exact(leaves.size(), 0.0);
@@ -57,8 +79,7 @@ struct Operator {
                     const Link& link = s.links[l];
                     const Element& source = s.elements[link.source];
                     hierarchical += link.form_factor;
-                    exact += link.visibility * pointPolygonFormFactor(leaf.centroid, leaf.normal,
-                                                                      polygonOf(s, source).vertices, source.normal);
+                    exact += link.visibility * leafAverage(leaf, polygonOf(s, source));
                 }
             }
             double own = 0.0;

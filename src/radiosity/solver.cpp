@@ -28,7 +28,9 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.quadrature_max_depth = 1;
             o.visibility_samples = 2;
             o.probe_opening = 0.7;
-            o.probe_samples = 1;
+            o.probe_samples = 2;
+            o.probe_visibility_ratio = 0.03;
+            o.probe_visibility_coarse = 0.2;
             break;
         case Quality::Medium:
             break;  // the defaults in solver.h
@@ -44,6 +46,8 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.visibility_samples = 4;
             o.probe_opening = 0.35;
             o.probe_samples = 3;
+            o.probe_visibility_ratio = 0.005;
+            o.probe_visibility_coarse = 0.07;
             break;
         case Quality::Reference:
             o.error_threshold = 1e-5;
@@ -57,6 +61,8 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.visibility_samples = 6;
             o.probe_opening = 0.2;
             o.probe_samples = 4;
+            o.probe_visibility_ratio = 0.002;
+            o.probe_visibility_coarse = 0.05;
             break;
     }
     return o;

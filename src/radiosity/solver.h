@@ -30,7 +30,7 @@ enum class Quality { Draft, Medium, High, Reference };
 //   - direct light of punctual lights refines an element while
 //       rho * (H_max - H_min) * A > error_threshold * P.
 // The solve scales each leaf's inherited irradiance so its row sum matches the point form
-// factors at its centroid (solve.cpp): the oracle bounds power, not local error, and without
+// factors averaged over it (2 x 2 Gauss points, solve.cpp): the oracle bounds power, not local error, and without
 // this closed scenes at rho = 0.99 drift by tens of percent.
 struct SolverOptions {
     VisibilityMode visibility = VisibilityMode::Exact;
@@ -49,7 +49,11 @@ struct SolverOptions {
                                        // 1e-6 relative on unit squares sharing an edge)
     int visibility_samples = 3;        // rays per side for a partial link (n x n segments)
     double probe_opening = 0.5;        // probes open an element when radius / distance exceeds this
-    int probe_samples = 2;             // rays per side from a probe to each element it gathers from
+    int probe_samples = 2;             // rays per side from a probe to each element it gathers from (>= 2)
+    double probe_visibility_ratio = 0.01;  // a partly visible element (its rays disagree) is opened, below
+                                           // a leaf its polygon split, until radius / distance is below this
+    double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
+                                           // radius / distance, so a sliver of light is not lost between rays
     bool pin_threads = true;           // pin the solver's workers to cores
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
 

@@ -84,3 +84,27 @@ TEST_CASE("polygon form factor: perpendicular unit squares sharing an edge") {
     MESSAGE("perpendicular F (depth 9) = " << g.form_factor << " samples " << g.samples);
     CHECK(g.form_factor == doctest::Approx(kPerpendicularUnit).epsilon(2e-5));
 }
+
+TEST_CASE("polygon form factor: touching pairs are exact at the presets' quadrature (graded across the edge)") {
+    // A closed room at rho = 0.999 amplifies a relative error e of its touching links into
+    // ~1000 e of its light: the medium preset's quadrature (order 3, near 0.5, depth 2) must
+    // give perpendicular unit squares to 1e-5 (isotropic splitting gave 2e-5 only at depth 9).
+    QuadratureOptions medium;
+    medium.order = 3;
+    medium.near_ratio = 0.5;
+    medium.max_depth = 2;
+    const Poly floor = makePoly({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
+    const Poly wall = makePoly({{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}});
+    const FormFactorEstimate f = polygonFormFactor(floor.view(), wall.view(), medium);
+    MESSAGE("perpendicular F (medium): relative error " << (f.form_factor / kPerpendicularUnit - 1.0) << ", samples " << f.samples);
+    CHECK(f.form_factor == doctest::Approx(kPerpendicularUnit).epsilon(1e-5));
+    // The same pair scaled by 1e-3 and 1e3: the grading is relative.
+    for (const double scale : {1e-3, 1e3}) {
+        std::vector<DVec3> a = floor.loop, b = wall.loop;
+        for (DVec3& p : a) p *= scale;
+        for (DVec3& p : b) p *= scale;
+        const Poly fa = makePoly(a), wb = makePoly(b);
+        CHECK(polygonFormFactor(fa.view(), wb.view(), medium).form_factor ==
+              doctest::Approx(kPerpendicularUnit).epsilon(1e-5));
+    }
+}
