@@ -1,5 +1,7 @@
 #include "io/vrml/vrml97_parser.h"
 
+#include <optional>
+
 #include <algorithm>
 #include <filesystem>
 
@@ -209,10 +211,10 @@ static void noteChildren(Node& node, const FieldValue& value) {
         if (child && child->subtree_has_is) node.subtree_has_is = true;
 }
 
-void Vrml97Parser::parseBuiltinBody(Node& node, const NodeSpec& spec, Scope& scope, int depth) {
+std::optional<Token> Vrml97Parser::nextBodyField(Node& node, Scope& scope, int depth) {
     for (;;) {
         const Token t = lexer_.next();
-        if (t.kind == TokenKind::CloseBrace) return;
+        if (t.kind == TokenKind::CloseBrace) return std::nullopt;
         if (t.kind == TokenKind::End)
             fail(t, "unexpected end of file inside " + node.type + " (opened at line " + std::to_string(node.location.line) +
                         ", column " + std::to_string(node.location.column) + ")");
@@ -220,6 +222,13 @@ void Vrml97Parser::parseBuiltinBody(Node& node, const NodeSpec& spec, Scope& sco
             fail(t, "expected a field name or '}' in " + node.type + ", found " + describe(t));
         if (parseBodyExtra(t, scope, depth)) continue;
         if (parseIs(node, t, scope)) continue;  // events bound with IS are accepted and unused
+        return t;
+    }
+}
+
+void Vrml97Parser::parseBuiltinBody(Node& node, const NodeSpec& spec, Scope& scope, int depth) {
+    while (const std::optional<Token> field_name = nextBodyField(node, scope, depth)) {
+        const Token& t = *field_name;
         const FieldSpec* field = spec.find(t.text);
         if (!field) {
             unknown(t, "unknown field '" + std::string(t.text) + "' in " + node.type + " skipped");
@@ -240,16 +249,8 @@ void Vrml97Parser::parseBuiltinBody(Node& node, const NodeSpec& spec, Scope& sco
 }
 
 void Vrml97Parser::parseProtoInstanceBody(Node& node, const ProtoDef& proto, Scope& scope, int depth) {
-    for (;;) {
-        const Token t = lexer_.next();
-        if (t.kind == TokenKind::CloseBrace) return;
-        if (t.kind == TokenKind::End)
-            fail(t, "unexpected end of file inside " + node.type + " (opened at line " + std::to_string(node.location.line) +
-                        ", column " + std::to_string(node.location.column) + ")");
-        if (t.kind != TokenKind::Word)
-            fail(t, "expected a field name or '}' in " + node.type + ", found " + describe(t));
-        if (parseBodyExtra(t, scope, depth)) continue;
-        if (parseIs(node, t, scope)) continue;
+    while (const std::optional<Token> field_name = nextBodyField(node, scope, depth)) {
+        const Token& t = *field_name;
         const InterfaceField* field = proto.find(t.text);
         if (!field || field->is_event) {
             unknown(t, "unknown field '" + std::string(t.text) + "' in PROTO instance " + node.type + " skipped");

@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 // VRML97 classic-encoding parser: text -> node graph (io/vrml/vrml97_nodes.h). PROTO
 // instances stay unexpanded (the scene builder expands them); ROUTEs are skipped.
 #include <memory>
@@ -51,6 +52,9 @@ private:
     void parseStatement(Scope& scope, std::vector<NodePtr>& out, int depth);
     NodePtr parseNodeStatement(Scope& scope, int depth);
     NodePtr parseNode(const Token& type, Scope& scope, int depth);
+    // The next field name in a node body, after the extras every body accepts (ROUTE, PROTO,
+    // IS bindings); nullopt at the closing brace.
+    std::optional<Token> nextBodyField(Node& node, Scope& scope, int depth);
     void parseProtoInstanceBody(Node& node, const ProtoDef& proto, Scope& scope, int depth);
     void parseBuiltinBody(Node& node, const NodeSpec& spec, Scope& scope, int depth);
     bool parseBodyExtra(const Token& word, Scope& scope, int depth);  // ROUTE, PROTO, EXTERNPROTO inside a body
