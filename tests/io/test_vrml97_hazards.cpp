@@ -179,3 +179,23 @@ TEST_CASE("hazard: importScene reads VRML97 and applies the unit scale") {
     CHECK(summary.area == doctest::Approx(1e-4));
     CHECK(summary.polygons == 1);
 }
+
+// Regression (found by fuzz_vrml, heap-use-after-free): a PROTO redefined inside the body of an
+// instance of the same name freed the definition the instance was being parsed with, and the
+// instance was then bound to the new definition.
+TEST_CASE("hazard: a PROTO redefined inside its own instance's body keeps the instance's definition") {
+    Read r = readVrml97("proto_redefined_in_body.wrl",
+                        "PROTO X [ field SFVec3f size 1 1 1 ] { Shape { geometry Box { size IS size } } }\n"
+                        "X { size 2 2 2\n"
+                        "    PROTO X [ field SFFloat radius 1 ] { Shape { geometry Sphere { radius IS radius } } }\n"
+                        "    size 2 2 2 }\n"
+                        "X { radius 3 }\n");
+    REQUIRE(r.ok);
+    REQUIRE(r.scene.meshes.size() == 2);
+    CHECK(r.scene.meshes[0].polygon_count == 6);  // the first instance is still the box
+    double box_area = 0.0;
+    for (size_t t = 0; t < r.scene.meshes[0].triangles.size(); ++t) box_area += triangleArea(r.scene.meshes[0], t);
+    CHECK(box_area == doctest::Approx(24.0));
+    CHECK(r.scene.meshes[1].polygon_count > 6);   // the second uses the redefinition: the sphere
+    CHECK_FALSE(r.has("unknown field"));
+}

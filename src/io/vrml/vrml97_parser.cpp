@@ -84,10 +84,10 @@ Token Vrml97Parser::expect(TokenKind kind, const char* what) {
     return t;
 }
 
-const ProtoDef* Vrml97Parser::findProto(const Scope& scope, std::string_view name) const {
+std::shared_ptr<ProtoDef> Vrml97Parser::findProto(const Scope& scope, std::string_view name) const {
     for (const Scope* s = &scope; s; s = s->parent) {
         const auto it = s->protos.find(std::string(name));
-        if (it != s->protos.end()) return it->second.get();
+        if (it != s->protos.end()) return it->second;
     }
     return nullptr;
 }
@@ -147,16 +147,11 @@ NodePtr Vrml97Parser::parseNode(const Token& type, Scope& scope, int depth) {
     auto node = std::make_shared<Node>();
     node->type = std::string(type.text);
     node->location = loc(type);
-    if (const ProtoDef* proto = findProto(scope, type.text)) {
+    if (std::shared_ptr<ProtoDef> proto = findProto(scope, type.text)) {
+        // The instance owns its definition: the body may redefine the name (a PROTO inside a
+        // node body), which must neither free the definition in use nor rebind the instance.
+        node->proto = proto;
         parseProtoInstanceBody(*node, *proto, scope, depth + 1);
-        // Keep the definition alive with the instance (it may come from another file).
-        for (const Scope* s = &scope; s; s = s->parent) {
-            const auto it = s->protos.find(node->type);
-            if (it != s->protos.end()) {
-                node->proto = it->second;
-                break;
-            }
-        }
     } else {
         const NodeSpec* spec = findNodeSpec(type.text);
         if (!spec || spec->role != NodeRole::Used) {

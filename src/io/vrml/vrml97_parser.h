@@ -68,7 +68,7 @@ private:
     void skipRoute(const Token& route);                               // after the keyword
     void skipBraces(const Token& open_from);
     void skipValue();
-    const ProtoDef* findProto(const Scope& scope, std::string_view name) const;
+    std::shared_ptr<ProtoDef> findProto(const Scope& scope, std::string_view name) const;
 
     Token expect(TokenKind kind, const char* what);
     [[noreturn]] void fail(const Token& at, const std::string& message);
