@@ -3,6 +3,7 @@
 // issue 6's "the analytic scenes pass at the default quality".
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -33,8 +34,14 @@ int solveAndCompare(const std::string& name) {
     options.quality = Quality::Medium;
     options.threads = 2;
     Progress progress(false);
+    const auto start = std::chrono::steady_clock::now();
     const std::optional<Solution> solution = solveRadiosity(*scene, parts, options, progress, diagnostics);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     REQUIRE(solution.has_value());
+    // Printed, never asserted: speed is measured by tools/, not by tests.
+    if (name.starts_with("furnace"))
+        MESSAGE(name << ": solved in " << seconds << " s (medium, 2 threads, " << solution->stats.iterations
+                     << " iterations)");
     REQUIRE_FALSE(diagnostics.hasErrors());
 
     std::ifstream expected(analyticFile(name + ".expected.csv"));
