@@ -11,53 +11,16 @@
 #include <unistd.h>
 
 #include "io/import.h"
+#include "test_vrml1_support.h"
 
 using namespace radbake;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Read {
-    std::optional<Scene> scene;
-    Diagnostics diagnostics;
+using namespace vrml1_test;
 
-    int count(Severity severity, const std::string& part) const {
-        int n = 0;
-        for (const Diagnostic& d : diagnostics.all())
-            if (d.severity == severity && d.message.find(part) != std::string::npos) ++n;
-        return n;
-    }
-    const Diagnostic* find(Severity severity, const std::string& part) const {
-        for (const Diagnostic& d : diagnostics.all())
-            if (d.severity == severity && d.message.find(part) != std::string::npos) return &d;
-        return nullptr;
-    }
-};
-
-fs::path tempDir() {
-    static std::atomic<int> counter{0};
-    fs::path dir = fs::temp_directory_path() /
-                   ("radbake_vrml1m_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir);
-    return dir;
-}
-
-void writeFile(const fs::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-}
-
-Read readPath(const fs::path& path) {
-    Read r;
-    r.scene = importScene(path.string(), ImportOptions{}, r.diagnostics);
-    return r;
-}
-
-Read read(const std::string& body) {
-    const fs::path path = tempDir() / "m.wrl";
-    writeFile(path, "#VRML V1.0 ascii\n" + body);
-    return readPath(path);
-}
+Read read(const std::string& body) { return readAt(tempDir() / "m.wrl", body); }
 
 bool near(const Vec3& a, const Vec3& b, float tolerance = 1e-5f) { return glm::length(a - b) <= tolerance; }
 

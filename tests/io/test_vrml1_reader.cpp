@@ -11,52 +11,14 @@
 
 #include "io/import.h"
 #include "io/vrml/primitives.h"
+#include "test_vrml1_support.h"
 
 using namespace radbake;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Read {
-    std::optional<Scene> scene;
-    Diagnostics diagnostics;
-    std::string path;
-
-    int count(Severity severity, const std::string& part) const {
-        int n = 0;
-        for (const Diagnostic& d : diagnostics.all())
-            if (d.severity == severity && d.message.find(part) != std::string::npos) ++n;
-        return n;
-    }
-    const Diagnostic* find(Severity severity, const std::string& part) const {
-        for (const Diagnostic& d : diagnostics.all())
-            if (d.severity == severity && d.message.find(part) != std::string::npos) return &d;
-        return nullptr;
-    }
-};
-
-fs::path tempDir() {
-    static std::atomic<int> counter{0};
-    fs::path dir = fs::temp_directory_path() /
-                   ("radbake_vrml1_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir);
-    return dir;
-}
-
-void writeFile(const fs::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-}
-
-Read readAt(const fs::path& path, const std::string& body, bool strict = false) {
-    writeFile(path, "#VRML V1.0 ascii\n" + body);
-    Read r;
-    r.path = path.string();
-    ImportOptions options;
-    options.strict = strict;
-    r.scene = importScene(r.path, options, r.diagnostics);
-    return r;
-}
+using namespace vrml1_test;
 
 Read read(const std::string& body, bool strict = false) { return readAt(tempDir() / "t.wrl", body, strict); }
 
