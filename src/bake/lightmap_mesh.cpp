@@ -1,10 +1,39 @@
 // Lightmap meshes: chart faces back in world space with their atlas UVs.
 #include "bake/lightmap_mesh.h"
 
+#include <algorithm>
 #include <map>
 #include <utility>
 
 namespace radbake {
+namespace {
+
+// Barycentric weights of p (on or next to the triangle's plane) in triangle abc, projected
+// onto the plane; clamped to the triangle so a point a rounding error outside stays inside.
+Vec3 barycentricOf(const DVec3& p, const DVec3& a, const DVec3& b, const DVec3& c) {
+    const DVec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d00 = glm::dot(ab, ab), d01 = glm::dot(ab, ac), d11 = glm::dot(ac, ac);
+    const double d20 = glm::dot(ap, ab), d21 = glm::dot(ap, ac);
+    const double det = d00 * d11 - d01 * d01;
+    if (!(det > 0.0)) return Vec3(1.0f, 0.0f, 0.0f);
+    double v = (d11 * d20 - d01 * d21) / det, w = (d00 * d21 - d01 * d20) / det;
+    v = std::max(v, 0.0);
+    w = std::max(w, 0.0);
+    if (v + w > 1.0) {
+        const double sum = v + w;
+        v /= sum;
+        w /= sum;
+    }
+    return Vec3(static_cast<float>(1.0 - v - w), static_cast<float>(v), static_cast<float>(w));
+}
+
+}  // namespace
+
+Vec3 interpolateSource(const LightmapMesh& mesh, size_t v, std::span<const Vec3> per_source_vertex) {
+    const UVec3& corners = mesh.source_corners[v];
+    const Vec3& w = mesh.barycentric[v];
+    return w.x * per_source_vertex[corners.x] + w.y * per_source_vertex[corners.y] + w.z * per_source_vertex[corners.z];
+}
 
 std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayout& layout) {
     std::vector<LightmapMesh> meshes(scene.meshes.size());
@@ -15,11 +44,18 @@ std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayou
         // Faces of one chart share corners: the same plane point is one vertex (points
         // computed from the same float position are bit-identical).
         std::map<std::pair<double, double>, uint32_t> ids;
-        const auto vertex = [&](const DVec2& p) {
+        const Mesh& source = scene.meshes[chart.mesh];
+        const auto vertex = [&](const DVec2& p, uint32_t triangle) {
             const auto [it, added] = ids.emplace(std::make_pair(p.x, p.y), static_cast<uint32_t>(out.positions.size()));
             if (added) {
                 const DVec2 texel = chart.atlasTexel(p);
-                out.positions.push_back(Vec3(chart.worldPoint(p)));
+                const DVec3 p_world = chart.worldPoint(p);
+                const UVec3 corners = source.triangles[triangle];
+                out.source_corners.push_back(corners);
+                out.barycentric.push_back(barycentricOf(p_world, DVec3(source.positions[corners.x]),
+                                                        DVec3(source.positions[corners.y]),
+                                                        DVec3(source.positions[corners.z])));
+                out.positions.push_back(Vec3(p_world));
                 out.uv.push_back(Vec2(static_cast<float>(texel.x / atlas.width), static_cast<float>(texel.y / atlas.height)));
                 out.atlas.push_back(chart.atlas);
             }
@@ -27,7 +63,7 @@ std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayou
         };
         for (const ChartFace& face : chart.faces) {
             std::vector<uint32_t> loop;
-            for (const DVec2& p : face.p_plane) loop.push_back(vertex(p));
+            for (const DVec2& p : face.p_plane) loop.push_back(vertex(p, face.triangle));
             for (size_t k = 1; k + 1 < loop.size(); ++k) {
                 out.triangles.push_back(UVec3(loop[0], loop[k], loop[k + 1]));
                 out.source_triangle.push_back(face.triangle);

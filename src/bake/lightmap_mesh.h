@@ -3,6 +3,7 @@
 // becomes a fan of triangles over vertices of its own chart, so vertices are split at chart
 // seams and at the cuts of split charts, as a second UV set requires.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bake/lightmap_charts.h"
@@ -16,7 +17,15 @@ struct LightmapMesh {
     std::vector<int> atlas;                // per vertex, the atlas its uv refers to
     std::vector<UVec3> triangles;          // counter-clockwise from the front, like the source
     std::vector<uint32_t> source_triangle; // per triangle: index into the source mesh's triangles
+    // Per vertex: where it lies on the source mesh, as barycentric weights over the corners of
+    // a source triangle it lies on, so any per-source-vertex attribute (baked value, normal)
+    // can be carried over (interpolateSource).
+    std::vector<UVec3> source_corners;     // source vertex indices
+    std::vector<Vec3> barycentric;         // weights of those corners, summing to 1
 };
+
+// The source attribute (one value per source vertex) at lightmap vertex v.
+Vec3 interpolateSource(const LightmapMesh& mesh, size_t v, std::span<const Vec3> per_source_vertex);
 
 // One LightmapMesh per scene mesh (empty for meshes without charts). Charts must be placed.
 std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayout& layout);

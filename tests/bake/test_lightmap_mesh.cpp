@@ -84,3 +84,29 @@ TEST_CASE("lightmap meshes keep the surface and put every UV inside its chart") 
     // 4 corners each when the cut misses the diagonal's ends, more where it crosses it.
     CHECK(mesh.positions.size() > 27 * 4);
 }
+
+TEST_CASE("lightmap vertices carry source attributes: positions interpolate back to themselves") {
+    Scene scene;
+    scene.materials.resize(1);
+    scene.meshes = {boxWithoutBottom(2.0f)};
+    LightmapOptions options;
+    options.texel_density = 10.0;
+    options.max_chart_texels = 7;  // cuts make vertices in the middle of source triangles
+    options.atlas_size = 128;
+    LightmapLayout layout;
+    Diagnostics diagnostics;
+    REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
+    const LightmapMesh mesh = lightmapMeshes(scene, layout)[0];
+    REQUIRE(mesh.source_corners.size() == mesh.positions.size());
+    REQUIRE(mesh.barycentric.size() == mesh.positions.size());
+    CHECK(mesh.positions.size() > scene.meshes[0].positions.size());
+    const std::vector<Vec3>& source = scene.meshes[0].positions;
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3 w = mesh.barycentric[v];
+        CHECK(w.x >= 0.0f);
+        CHECK(w.y >= 0.0f);
+        CHECK(w.z >= 0.0f);
+        CHECK(w.x + w.y + w.z == doctest::Approx(1.0).epsilon(1e-6));
+        CHECK(glm::length(interpolateSource(mesh, v, source) - mesh.positions[v]) < 1e-5f);
+    }
+}

@@ -1,0 +1,16 @@
+#pragma once
+// What the mesh writers need to know of a bake's lightmaps: the lightmap meshes (split at
+// chart seams, with TEXCOORD_1) and the file each atlas was written to.
+#include <string>
+#include <vector>
+
+#include "bake/lightmap_mesh.h"
+
+namespace radbake {
+
+struct LightmapFiles {
+    std::vector<LightmapMesh> meshes;      // one per Scene mesh (lightmapMeshes); empty ones have no charts
+    std::vector<std::string> atlas_files;  // per atlas, relative to the bake directory: "lightmaps/<name>_<k>.exr"
+};
+
+}  // namespace radbake
