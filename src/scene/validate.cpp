@@ -6,14 +6,38 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <map>
 #include <string>
-#include <unordered_map>
-#include <utility>
 #include <vector>
 
+#include "scene/validate_overlap.h"
+
 namespace radbake {
+namespace validation {
+
+std::string describeMesh(const Mesh& mesh, size_t index) {
+    return mesh.name.empty() ? "mesh #" + std::to_string(index) : "mesh '" + mesh.name + "'";
+}
+
+double sceneExtent(const std::vector<Mesh>& meshes) {
+    DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    double magnitude = 0.0;
+    for (const Mesh& mesh : meshes)
+        for (const Vec3& p : mesh.positions) {
+            const DVec3 q(p);
+            lo = glm::min(lo, q);
+            hi = glm::max(hi, q);
+            magnitude = std::max({magnitude, std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+        }
+    if (lo.x > hi.x) return 0.0;
+    return std::max(magnitude, glm::length(hi - lo));
+}
+
+}  // namespace validation
+
 namespace {
+
+using validation::describeMesh;
+using validation::sceneExtent;
 
 // Reflectance must stay below 1 or the radiosity system does not converge.
 constexpr float kMaxReflectance = 0.999f;
@@ -24,17 +48,7 @@ constexpr float kMaxReflectance = 0.999f;
 constexpr double kFloatStep = 1.0 / 16777216.0;  // 2^-24
 constexpr double kDegenerateHeightSteps = 4.0;
 
-// Two polygons are taken as duplicates when their planes and centroids agree within this
-// fraction of the extent: far above float rounding of the same vertices reached through
-// different transforms or vertex orders, far below any deliberate modelling offset.
-constexpr double kDuplicateRelativeTolerance = 1e-5;
-constexpr double kDuplicateNormalCos = 0.9999;  // about 0.8 degrees
-
 std::string quoted(const std::string& name) { return "'" + name + "'"; }
-
-std::string describeMesh(const Mesh& mesh, size_t index) {
-    return mesh.name.empty() ? "mesh #" + std::to_string(index) : "mesh " + quoted(mesh.name);
-}
 
 std::string describeMaterial(const Material& material, size_t index) {
     return material.name.empty() ? "material #" + std::to_string(index) : "material " + quoted(material.name);
@@ -273,122 +287,6 @@ void reportCleanup(const Mesh& mesh, size_t index, const CleanupCounts& counts, 
     if (!parts.empty()) diagnostics.warning(mesh.location, describeMesh(mesh, index) + ": dropped " + parts);
 }
 
-// ---------------------------------------------------------------------------------------
-// Duplicate coplanar faces.
-
-struct PolygonFootprint {
-    uint32_t mesh = 0;
-    uint32_t polygon = 0;
-    DVec3 normal{0.0};  // unit
-    DVec3 centroid{0.0};
-};
-
-// Area-weighted plane and centroid of every polygon (triangles of a polygon are contiguous).
-void collectFootprints(const std::vector<Mesh>& meshes, std::vector<PolygonFootprint>& out) {
-    for (size_t m = 0; m < meshes.size(); ++m) {
-        const Mesh& mesh = meshes[m];
-        size_t t = 0;
-        while (t < mesh.triangles.size()) {
-            const uint32_t polygon = mesh.triangle_polygon[t];
-            DVec3 area_normal(0.0), weighted_centroid(0.0);
-            double area = 0.0;
-            for (; t < mesh.triangles.size() && mesh.triangle_polygon[t] == polygon; ++t) {
-                const UVec3& tri = mesh.triangles[t];
-                const DVec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
-                const DVec3 n = glm::cross(b - a, c - a);  // twice the area
-                const double twice = glm::length(n);
-                area_normal += n;
-                weighted_centroid += twice * (a + b + c) / 3.0;
-                area += twice;
-            }
-            const double normal_length = glm::length(area_normal);
-            if (area <= 0.0 || normal_length <= 0.0) continue;
-            out.push_back({static_cast<uint32_t>(m), polygon, area_normal / normal_length, weighted_centroid / area});
-        }
-    }
-}
-
-struct CellKey {
-    int64_t x, y, z;
-    bool operator==(const CellKey&) const = default;
-};
-struct CellHash {
-    size_t operator()(const CellKey& k) const {
-        uint64_t h = static_cast<uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
-        h ^= static_cast<uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-        h ^= static_cast<uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
-        return static_cast<size_t>(h);
-    }
-};
-
-// Two coplanar polygons facing the same way whose centroids coincide overlap (a centroid
-// lies inside its convex polygon), so a hash on the rounded centroid, with the plane checked
-// on the few candidates, finds the same face given twice in linear time. Back-to-back faces
-// (opposite normals) are a legitimate thin wall and are not reported.
-void reportDuplicates(const std::vector<Mesh>& meshes, double extent, Diagnostics& diagnostics) {
-    std::vector<PolygonFootprint> polygons;
-    collectFootprints(meshes, polygons);
-    const double tolerance = std::max(kDuplicateRelativeTolerance * extent, std::numeric_limits<double>::min());
-    auto cellOf = [&](const DVec3& p) {
-        return CellKey{static_cast<int64_t>(std::floor(p.x / tolerance)), static_cast<int64_t>(std::floor(p.y / tolerance)),
-                       static_cast<int64_t>(std::floor(p.z / tolerance))};
-    };
-    std::unordered_map<CellKey, std::vector<uint32_t>, CellHash> grid;
-    grid.reserve(polygons.size());
-    // (mesh a, mesh b) -> (count, first example pair)
-    std::map<std::pair<uint32_t, uint32_t>, std::pair<size_t, std::pair<uint32_t, uint32_t>>> pairs;
-    for (uint32_t i = 0; i < polygons.size(); ++i) {
-        const PolygonFootprint& p = polygons[i];
-        const CellKey cell = cellOf(p.centroid);
-        bool found = false;
-        for (int64_t dx = -1; dx <= 1 && !found; ++dx)
-            for (int64_t dy = -1; dy <= 1 && !found; ++dy)
-                for (int64_t dz = -1; dz <= 1 && !found; ++dz) {
-                    auto it = grid.find({cell.x + dx, cell.y + dy, cell.z + dz});
-                    if (it == grid.end()) continue;
-                    for (uint32_t j : it->second) {
-                        const PolygonFootprint& q = polygons[j];
-                        if (glm::length(p.centroid - q.centroid) > tolerance) continue;
-                        if (glm::dot(p.normal, q.normal) < kDuplicateNormalCos) continue;
-                        auto& entry = pairs[{q.mesh, p.mesh}];
-                        if (entry.first++ == 0) entry.second = {q.polygon, p.polygon};
-                        found = true;  // one report per polygon, whatever else it duplicates
-                        break;
-                    }
-                }
-        grid[cell].push_back(i);
-    }
-    for (const auto& [key, value] : pairs) {
-        const Mesh& a = meshes[key.first];
-        const Mesh& b = meshes[key.second];
-        const std::string example = " (e.g. polygon " + std::to_string(value.second.first) + " and polygon " +
-                                    std::to_string(value.second.second) + ")";
-        if (key.first == key.second)
-            diagnostics.warning(a.location, describeMesh(a, key.first) + ": " + std::to_string(value.first) +
-                                                " duplicate coplanar face(s) covering the same area" + example);
-        else
-            diagnostics.warning(b.location, describeMesh(a, key.first) + " and " + describeMesh(b, key.second) + ": " +
-                                                std::to_string(value.first) +
-                                                " duplicate coplanar face(s) covering the same area" + example);
-    }
-}
-
-// The scene's extent for tolerances: the largest coordinate magnitude or the bounding
-// diagonal, whichever is larger (float rounding grows with the coordinates' magnitude).
-double sceneExtent(const std::vector<Mesh>& meshes) {
-    DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    double magnitude = 0.0;
-    for (const Mesh& mesh : meshes)
-        for (const Vec3& p : mesh.positions) {
-            const DVec3 q(p);
-            lo = glm::min(lo, q);
-            hi = glm::max(hi, q);
-            magnitude = std::max({magnitude, std::abs(q.x), std::abs(q.y), std::abs(q.z)});
-        }
-    if (lo.x > hi.x) return 0.0;
-    return std::max(magnitude, glm::length(hi - lo));
-}
-
 }  // namespace
 
 bool validateScene(Scene& scene, Diagnostics& diagnostics) {
@@ -412,7 +310,7 @@ bool validateScene(Scene& scene, Diagnostics& diagnostics) {
         diagnostics.warning({scene.source_path, 0, 0}, std::to_string(removed) + " empty mesh(es) removed");
     if (scene.meshes.empty()) diagnostics.warning({scene.source_path, 0, 0}, "the scene has no surfaces");
 
-    reportDuplicates(scene.meshes, sceneExtent(scene.meshes), diagnostics);
+    validation::reportCoplanarOverlaps(scene.meshes, diagnostics);
     return !diagnostics.hasErrors();
 }
 

@@ -2,8 +2,11 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "scene/validate.h"
 
@@ -199,7 +202,8 @@ TEST_CASE("duplicate coplanar faces are reported once per mesh pair") {
         CHECK(validateScene(scene, diagnostics));
         REQUIRE(diagnostics.warningCount() == 1);
         CHECK(diagnostics.all()[0].message ==
-              "mesh 'floor': 1 duplicate coplanar face(s) covering the same area (e.g. polygon 0 and polygon 1)");
+              "mesh 'floor': 1 duplicate coplanar face(s) covering the same area (e.g. polygon 0 and polygon 1, at "
+              "(0.666667, 0.333333, 0))");
     }
     SUBCASE("many duplicates between two meshes make one warning with their count") {
         Mesh a, b;
@@ -220,7 +224,8 @@ TEST_CASE("duplicate coplanar faces are reported once per mesh pair") {
         CHECK(validateScene(scene, diagnostics));
         REQUIRE(diagnostics.warningCount() == 1);
         CHECK(diagnostics.all()[0].message ==
-              "mesh 'a' and mesh 'b': 5 duplicate coplanar face(s) covering the same area (e.g. polygon 0 and polygon 0)");
+              "mesh 'a' and mesh 'b': 5 duplicate coplanar face(s) covering the same area (e.g. polygon 0 and polygon 0, "
+              "at (0.666667, 0.333333, 0))");
     }
     SUBCASE("back-to-back faces (a thin wall) and neighbours sharing an edge are not duplicates") {
         Mesh front = square("front");
@@ -231,6 +236,249 @@ TEST_CASE("duplicate coplanar faces are reported once per mesh pair") {
         CHECK(validateScene(scene, diagnostics));
         CHECK(diagnostics.warningCount() == 0);
     }
+}
+
+namespace {
+
+// A w x h rectangle at (x, y) in z = z0, one polygon of two triangles, facing +z (or -z).
+Mesh rectangle(const std::string& name, float x, float y, float w, float h, float z0 = 0.0f, bool up = true) {
+    Mesh mesh = square(name, z0);
+    mesh.positions = {{x, y, z0}, {x + w, y, z0}, {x + w, y + h, z0}, {x, y + h, z0}};
+    if (!up)
+        for (UVec3& t : mesh.triangles) std::swap(t.y, t.z);
+    return mesh;
+}
+
+std::vector<std::string> warnings(const Diagnostics& diagnostics) {
+    std::vector<std::string> out;
+    for (const Diagnostic& d : diagnostics.all())
+        if (d.severity == Severity::Warning) out.push_back(d.message);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("partly overlapping coplanar faces facing the same way are reported, with a point of the overlap") {
+    SUBCASE("two unit squares overlapping by half") {
+        Scene scene = sceneWith({square("a"), square("b", 0.0f, 0.5f)});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        REQUIRE(diagnostics.warningCount() == 1);
+        const Diagnostic& w = diagnostics.all()[0];
+        CHECK(w.message.starts_with(
+            "mesh 'a' and mesh 'b': 1 coplanar face pair(s) partly overlapping, facing the same way (e.g. polygon 0 "
+            "and polygon 0, at ("));
+        CHECK(w.location.line == 10);
+        // The point lies in the overlap [0.5, 1] x [0, 1] at z = 0.
+        const size_t at = w.message.find("at (");
+        REQUIRE(at != std::string::npos);
+        float x = -1, y = -1, z = -1;
+        REQUIRE(std::sscanf(w.message.c_str() + at, "at (%f, %f, %f)", &x, &y, &z) == 3);
+        CHECK(x >= 0.5f);
+        CHECK(x <= 1.0f);
+        CHECK(y >= 0.0f);
+        CHECK(y <= 1.0f);
+        CHECK(z == 0.0f);
+    }
+    SUBCASE("a face inside a larger coplanar one, both in one mesh, on a tilted plane far from the origin") {
+        Mesh big = rectangle("", 0, 0, 4, 4);
+        Mesh inner = rectangle("", 1, 1, 0.5f, 0.5f);
+        Mesh mesh;
+        mesh.name = "wall";
+        mesh.positions = big.positions;
+        mesh.positions.insert(mesh.positions.end(), inner.positions.begin(), inner.positions.end());
+        mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+        mesh.triangle_polygon = {0, 0, 1, 1};
+        mesh.polygon_count = 2;
+        // Tilt about x by 30 degrees and move far away: the tolerances follow the extent.
+        const float c = std::cos(0.5235988f), s = std::sin(0.5235988f);
+        for (Vec3& p : mesh.positions) p = Vec3(p.x + 1000.0f, c * p.y - s * p.z + 2000.0f, s * p.y + c * p.z - 500.0f);
+        Scene scene = sceneWith({mesh});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        REQUIRE(diagnostics.warningCount() == 1);
+        CHECK(diagnostics.all()[0].message.starts_with(
+            "mesh 'wall': 1 coplanar face pair(s) partly overlapping, facing the same way (e.g. polygon 0 and polygon 1"));
+    }
+    SUBCASE("counts are per face pair: a large face over three small ones in another mesh") {
+        Mesh small;
+        small.name = "tiles";
+        for (int i = 0; i < 3; ++i) {
+            Mesh tile = rectangle("", 0.2f + i, 0.2f, 0.5f, 0.5f);
+            const uint32_t base = static_cast<uint32_t>(small.positions.size());
+            small.positions.insert(small.positions.end(), tile.positions.begin(), tile.positions.end());
+            for (UVec3 t : tile.triangles) small.triangles.push_back(t + UVec3(base));
+            small.triangle_polygon.insert(small.triangle_polygon.end(), 2, small.polygon_count++);
+        }
+        Scene scene = sceneWith({rectangle("slab", 0, 0, 4, 1), small, rectangle("below", 0, 0, 4, 1, -0.5f)});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        CHECK(warnings(diagnostics) ==
+              std::vector<std::string>{"mesh 'slab' and mesh 'tiles': 3 coplanar face pair(s) partly overlapping, facing "
+                                       "the same way (e.g. polygon 0 and polygon 0, at (0.533333, 0.366667, 0))"});
+    }
+    SUBCASE("duplicates and partial overlaps between the same meshes share one warning") {
+        Mesh a = rectangle("a", 0, 0, 1, 1);
+        Mesh b = rectangle("b", 0, 0, 1, 1);
+        Mesh more = rectangle("", 5, 0, 1, 1);
+        a.positions.insert(a.positions.end(), more.positions.begin(), more.positions.end());
+        a.triangles.insert(a.triangles.end(), {{4, 5, 6}, {4, 6, 7}});
+        a.triangle_polygon.insert(a.triangle_polygon.end(), {1, 1});
+        a.polygon_count = 2;
+        more = rectangle("", 5.9f, 0, 1, 1);
+        b.positions.insert(b.positions.end(), more.positions.begin(), more.positions.end());
+        b.triangles.insert(b.triangles.end(), {{4, 5, 6}, {4, 6, 7}});
+        b.triangle_polygon.insert(b.triangle_polygon.end(), {1, 1});
+        b.polygon_count = 2;
+        Scene scene = sceneWith({a, b});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        REQUIRE(diagnostics.warningCount() == 1);
+        CHECK(diagnostics.all()[0].message.starts_with(
+            "mesh 'a' and mesh 'b': 1 duplicate coplanar face(s) covering the same area, 1 coplanar face pair(s) partly "
+            "overlapping, facing the same way (e.g. polygon 0 and polygon 0, at"));
+    }
+}
+
+TEST_CASE("overlap warnings stop after 20 mesh pairs; one note counts the rest") {
+    std::vector<Mesh> meshes;
+    for (int i = 0; i < 25; ++i) {
+        meshes.push_back(rectangle("a" + std::to_string(i), 3.0f * i, 0, 1, 1));
+        meshes.push_back(rectangle("b" + std::to_string(i), 3.0f * i + 0.5f, 0, 1, 1));
+    }
+    Scene scene = sceneWith(meshes);
+    Diagnostics diagnostics;
+    CHECK(validateScene(scene, diagnostics));
+    CHECK(diagnostics.warningCount() == 20);
+    CHECK(countMessages(diagnostics, Severity::Warning, "mesh 'a0' and mesh 'b0': 1 coplanar face pair(s)") == 1);
+    CHECK(countMessages(diagnostics, Severity::Note, "5 more mesh pair(s) with 5 overlapping coplanar face pair(s) not reported") == 1);
+}
+
+TEST_CASE("coplanar faces that only touch, or overlap back to back, or barely, are not reported") {
+    SUBCASE("sharing an edge") {
+        Scene scene = sceneWith({square("a"), square("b", 0.0f, 1.0f), rectangle("c", 0, 1, 2, 1)});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        CHECK(warnings(diagnostics).empty());
+    }
+    SUBCASE("touching at a corner") {
+        Scene scene = sceneWith({square("a"), rectangle("b", 1, 1, 1, 1), rectangle("c", 1, -1, 1, 1)});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        CHECK(warnings(diagnostics).empty());
+    }
+    SUBCASE("back to back, overlapping in part or in full: a double-sided wall") {
+        Scene scene = sceneWith({rectangle("front", 0, 0, 1, 1), rectangle("back", 0.5f, 0, 1, 1, 0.0f, false),
+                                 rectangle("front2", 3, 0, 1, 1), rectangle("back2", 3, 0, 1, 1, 0.0f, false)});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        CHECK(warnings(diagnostics).empty());
+    }
+    SUBCASE("overlapping by 0.5 % of the smaller face, below the 1 % threshold; at 2 % it is reported") {
+        Diagnostics diagnostics;
+        Scene scene = sceneWith({square("a"), square("b", 0.0f, 0.995f)});
+        CHECK(validateScene(scene, diagnostics));
+        CHECK(warnings(diagnostics).empty());
+        Diagnostics diagnostics2;
+        Scene scene2 = sceneWith({square("a"), square("b", 0.0f, 0.98f)});
+        CHECK(validateScene(scene2, diagnostics2));
+        CHECK(diagnostics2.warningCount() == 1);
+    }
+    SUBCASE("parallel, 1e-3 of the extent apart") {
+        Scene scene = sceneWith({square("a"), rectangle("b", 0.5f, 0, 1, 1, 0.0015f)});
+        Diagnostics diagnostics;
+        CHECK(validateScene(scene, diagnostics));
+        CHECK(warnings(diagnostics).empty());
+    }
+}
+
+TEST_CASE("overlaps are found in a large flat mesh (grid broad phase) against brute force") {
+    // A 60 x 60 grid of unit quads in z = 0 (7200 coplanar triangles, one plane group) with
+    // a second mesh of 25 quads shifted by (0.5, 0.25): each overlaps 4 grid quads.
+    Mesh grid;
+    grid.name = "grid";
+    const int n = 60;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) grid.positions.push_back({float(i), float(j), 0.0f});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = j * (n + 1) + i;
+            grid.triangles.push_back({a, a + 1, a + n + 2});
+            grid.triangles.push_back({a, a + n + 2, a + n + 1});
+            grid.triangle_polygon.insert(grid.triangle_polygon.end(), 2, grid.polygon_count++);
+        }
+    Mesh patches;
+    patches.name = "patches";
+    for (int k = 0; k < 25; ++k) {
+        Mesh quad = rectangle("", 10.5f + 2 * (k % 5), 20.25f + 2 * (k / 5), 1, 1);
+        const uint32_t base = static_cast<uint32_t>(patches.positions.size());
+        patches.positions.insert(patches.positions.end(), quad.positions.begin(), quad.positions.end());
+        for (UVec3 t : quad.triangles) patches.triangles.push_back(t + UVec3(base));
+        patches.triangle_polygon.insert(patches.triangle_polygon.end(), 2, patches.polygon_count++);
+    }
+    Scene scene = sceneWith({grid, patches});
+    Diagnostics diagnostics;
+    CHECK(validateScene(scene, diagnostics));
+    REQUIRE(diagnostics.warningCount() == 1);
+    // 25 patches x 4 grid quads; overlaps of 0.5 x 0.25 .. 0.5 x 0.75 of a unit quad (all >= 1 %).
+    CHECK(diagnostics.all()[0].message.starts_with("mesh 'grid' and mesh 'patches': 100 coplanar face pair(s) partly overlapping"));
+}
+
+TEST_CASE("overlap counts match brute force on random rectangles, on a tilted plane far from the origin") {
+    // 400 rectangles in one plane, a quarter of them facing the other way, one in ten an exact
+    // copy of an earlier one, in one mesh (one polygon each). Corners and sizes are multiples of
+    // 1/4 with sizes up to 2, so an overlap is 0 or at least 1/16 of at most 4 (above the 1 %
+    // threshold), and only exact copies cover 99 % of both: no case sits near a threshold.
+    std::mt19937 random(7);
+    auto quarter = [&](int lo, int hi) { return 0.25f * float(lo + int(random() % uint32_t(hi - lo + 1))); };
+    struct Rect {
+        float x, y, w, h;
+        bool up;
+    };
+    std::vector<Rect> rects;
+    for (int i = 0; i < 400; ++i) {
+        if (i > 0 && random() % 10 == 0) {
+            rects.push_back(rects[random() % rects.size()]);
+            continue;
+        }
+        rects.push_back({quarter(0, 120), quarter(0, 120), quarter(1, 8), quarter(1, 8), random() % 4 != 0});
+    }
+    size_t expected_partial = 0, expected_duplicates = 0;
+    for (size_t i = 0; i < rects.size(); ++i)
+        for (size_t j = i + 1; j < rects.size(); ++j) {
+            const Rect& a = rects[i];
+            const Rect& b = rects[j];
+            if (a.up != b.up) continue;
+            const double w = std::min(a.x + a.w, b.x + b.w) - std::max(a.x, b.x);
+            const double h = std::min(a.y + a.h, b.y + b.h) - std::max(a.y, b.y);
+            if (w <= 0 || h <= 0) continue;
+            if (a.x == b.x && a.y == b.y && a.w == b.w && a.h == b.h)
+                ++expected_duplicates;
+            else
+                ++expected_partial;
+        }
+    REQUIRE(expected_partial > 20);
+    REQUIRE(expected_duplicates > 5);
+
+    Mesh mesh;
+    mesh.name = "tiles";
+    const float c = std::cos(0.3f), s = std::sin(0.3f);
+    for (const Rect& r : rects) {
+        const Mesh quad = rectangle("", r.x, r.y, r.w, r.h, 0.0f, r.up);
+        const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+        for (Vec3 p : quad.positions)  // tilt about y, then move 500 away
+            mesh.positions.push_back({c * p.x + s * p.z + 500.0f, p.y - 200.0f, -s * p.x + c * p.z + 300.0f});
+        for (UVec3 t : quad.triangles) mesh.triangles.push_back(t + UVec3(base));
+        mesh.triangle_polygon.insert(mesh.triangle_polygon.end(), 2, mesh.polygon_count++);
+    }
+    Scene scene = sceneWith({mesh});
+    Diagnostics diagnostics;
+    CHECK(validateScene(scene, diagnostics));
+    REQUIRE(diagnostics.warningCount() == 1);
+    CHECK(diagnostics.all()[0].message.starts_with("mesh 'tiles': " + std::to_string(expected_duplicates) +
+                                                   " duplicate coplanar face(s) covering the same area, " +
+                                                   std::to_string(expected_partial) +
+                                                   " coplanar face pair(s) partly overlapping"));
 }
 
 TEST_CASE("arrays out of step are dropped; a broken polygon map falls back to one polygon per triangle") {

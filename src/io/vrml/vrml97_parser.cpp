@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <string>
+#include <unordered_set>
 
 namespace radbake::vrml {
 namespace {
@@ -33,6 +35,56 @@ std::string describe(const Token& t) {
 }
 
 bool isWord(const Token& t, std::string_view word) { return t.kind == TokenKind::Word && t.text == word; }
+
+// X3D classic encoding (.x3dv) is VRML97 syntax plus these statements, which say nothing
+// about geometry or light; a node of the same name would be followed by '{'.
+bool isX3dStatement(std::string_view word) {
+    return word == "PROFILE" || word == "COMPONENT" || word == "META" || word == "UNIT" || word == "IMPORT" ||
+           word == "EXPORT";
+}
+
+Token expectToken(Lexer& lexer, TokenKind kind, const char* what) {
+    Token t = lexer.next();
+    if (t.kind != kind) throw ParseError{lexer.location(t), std::string("expected ") + what + ", found " + describe(t)};
+    return t;
+}
+
+// PROFILE name | COMPONENT name:level | META "key" "value" | UNIT category name factor |
+// IMPORT inline.exported [AS name] | EXPORT name [AS name]: skipped, one warning per kind
+// (`warned` holds the kinds already reported in this file).
+void skipX3dStatement(Lexer& lexer, Diagnostics& diagnostics, std::unordered_set<std::string>& warned) {
+    const Token keyword = lexer.next();
+    const std::string kind(keyword.text);
+    if (kind == "PROFILE") {
+        expectToken(lexer, TokenKind::Word, "a profile name after PROFILE");
+    } else if (kind == "COMPONENT") {
+        Token name = expectToken(lexer, TokenKind::Word, "a component name after COMPONENT");
+        // name:level, possibly written with spaces around the colon.
+        if (name.text.find(':') == std::string_view::npos && lexer.peek().kind == TokenKind::Word &&
+            lexer.peek().text.starts_with(':'))
+            name = lexer.next();
+        if (name.text.ends_with(':')) expectToken(lexer, TokenKind::Number, "a component level after ':'");
+    } else if (kind == "META") {
+        expectToken(lexer, TokenKind::String, "a key string after META");
+        expectToken(lexer, TokenKind::String, "a value string after the META key");
+    } else if (kind == "UNIT") {
+        expectToken(lexer, TokenKind::Word, "a unit category after UNIT");
+        expectToken(lexer, TokenKind::Word, "a unit name after the UNIT category");
+        expectToken(lexer, TokenKind::Number, "a conversion factor after the UNIT name");
+    } else {  // IMPORT, EXPORT
+        expectToken(lexer, TokenKind::Word,
+                    kind == "IMPORT" ? "inlineName.exportedName after IMPORT" : "a node name after EXPORT");
+        if (isWord(lexer.peek(), "AS")) {
+            lexer.next();
+            expectToken(lexer, TokenKind::Word, "a name after AS");
+        }
+    }
+    if (!warned.insert("X3D " + kind).second) return;
+    diagnostics.warning(lexer.location(keyword),
+                        "X3D " + kind + " statement(s) skipped (X3D classic files are read as VRML97)" +
+                            (kind == "UNIT" ? std::string("; lengths are read unscaled: give --unit-scale for a length unit")
+                                            : std::string()));
+}
 
 bool equalsIgnoreCase(std::string_view a, std::string_view b) {
     return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
@@ -99,6 +151,14 @@ void Vrml97Parser::parseStatement(Scope& scope, std::vector<NodePtr>& out, int d
             const Token keyword = lexer_.next();
             parseBodyExtra(keyword, scope, depth);
             return;
+        }
+        if (isX3dStatement(t.text)) {
+            Lexer ahead = lexer_;  // two tokens of lookahead, only for these rare words
+            ahead.next();
+            if (ahead.peek().kind != TokenKind::OpenBrace) {
+                skipX3dStatement(lexer_, diagnostics_, warned_kinds_);
+                return;
+            }
         }
     }
     if (NodePtr node = parseNodeStatement(scope, depth)) out.push_back(std::move(node));

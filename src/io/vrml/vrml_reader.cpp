@@ -132,7 +132,8 @@ fs::path caseInsensitiveResolve(const fs::path& base, const fs::path& relative) 
 
 bool looksLikeVrml(std::string_view first_bytes) {
     if (first_bytes.starts_with("\xEF\xBB\xBF")) first_bytes.remove_prefix(3);
-    return first_bytes.starts_with("#VRML") || isGzip(first_bytes);
+    // X3D classic encoding ("#X3D V3.x utf8") is read as VRML97.
+    return first_bytes.starts_with("#VRML") || first_bytes.starts_with("#X3D") || isGzip(first_bytes);
 }
 
 bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene, Diagnostics& diagnostics) {
@@ -211,7 +212,9 @@ bool readText(std::string_view text, const std::string& path, const VrmlOptions&
     std::string_view head = text;
     if (head.starts_with("\xEF\xBB\xBF")) head.remove_prefix(3);
     try {
-        if (head.starts_with("#VRML V2.0")) return readVrml97(text, path, options, inline_stack, scene, diagnostics);
+        // X3D classic encoding (.x3dv, V3.x and V4.x) is VRML97 syntax with a few more statements.
+        if (head.starts_with("#VRML V2.0") || head.starts_with("#X3D V3") || head.starts_with("#X3D V4"))
+            return readVrml97(text, path, options, inline_stack, scene, diagnostics);
         if (head.starts_with("#VRML V1.0")) return readVrml1(text, path, options, inline_stack, scene, diagnostics);
     } catch (const std::bad_alloc&) {
         diagnostics.error({path, 0, 0}, "out of memory while reading the scene");
