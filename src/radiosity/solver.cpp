@@ -23,6 +23,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.iteration_tolerance = 1e-3;
             o.max_iterations = 100;
             o.refine_rounds = 1;
+            o.local_error_threshold = 0.0;  // one round: the local rule has no irradiance to read
             o.quadrature_order = 2;
             o.quadrature_near_ratio = 0.5;
             o.quadrature_max_depth = 1;
@@ -40,6 +41,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.iteration_tolerance = 1e-5;
             o.max_iterations = 400;
             o.refine_rounds = 3;
+            o.local_error_threshold = 0.05;
             o.quadrature_order = 3;
             o.quadrature_near_ratio = 1.0;
             o.quadrature_max_depth = 3;
@@ -55,6 +57,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.iteration_tolerance = 1e-6;
             o.max_iterations = 1000;
             o.refine_rounds = 4;
+            o.local_error_threshold = 0.03;
             o.quadrature_order = 4;
             o.quadrature_near_ratio = 1.5;
             o.quadrature_max_depth = 4;
@@ -117,7 +120,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         s.stats.iterations += result.iterations;
         s.stats.rounds = round + 1;
         if (round + 1 == rounds) break;
-        state.rescaleThreshold();
+        state.updateThresholds();
         pending = reopenLinks(state);
         if (pending.empty()) break;
     }

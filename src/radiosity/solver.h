@@ -22,10 +22,18 @@ enum class Quality { Draft, Medium, High, Reference };
 //   - a link (receiver R, source S) is refined while
 //       rho_R * (F_max - F_min) * B_S * A_R  >  error_threshold * P,
 //     the power it may misplace (W; max channel). P is the emitted power, sum over roots of
-//     A * (pi L_e + rho H_direct), in the first round, and the power leaving all surfaces
-//     (sum of A * B) in later rounds. F_min is 0 when the link has potential occluders;
-//     F_max/F_min are the point form factor's extremes over the receiver's sample points.
+//     A * (pi L_e + rho H_direct), in the first round; in later rounds the power leaving the
+//     surfaces (sum of A * B) of the receiver's light-exchange group (roots joined by links
+//     that carry light: two closed rooms are two groups, each refined as if alone). F_min is
+//     0 when the link has potential occluders; F_max/F_min are the point form factor's
+//     extremes over the receiver's sample points.
 //     (area_exponent < 1 replaces A_R by A_total (A_R / A_total)^area_exponent.)
+//   - from the second round on, a link whose receiver is at the min-area floor (below) has
+//     its source split while
+//       (F_max - F_min) * B_S  >  local_error_threshold * H_R   (rho_R > 0),
+//     H_R the receiver's mean irradiance from the last solve (an element made since reads its
+//     nearest ancestor's): the power rule scales with the receiver's area, so a sliver
+//     standing on a lit floor would otherwise gather the floor's mean, not what is near it;
 //   - an element is split only while its area exceeds min_element_area * total scene area;
 //   - direct light of punctual lights refines an element while
 //       rho * (H_max - H_min) * A > error_threshold * P.
@@ -56,6 +64,8 @@ struct SolverOptions {
                                            // radius / distance, so a sliver of light is not lost between rays
     bool pin_threads = true;           // pin the solver's workers to cores
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
+    double local_error_threshold = 0.1;   // fraction of its own irradiance a link may vary over a
+                                          // receiver (above; 0: off; needs refine_rounds >= 2)
 
     static SolverOptions forQuality(Quality quality);  // fills every knob from a preset
 };

@@ -65,7 +65,10 @@ inline void addOutwardBox(Scene& scene, uint32_t material, Vec3 lo, Vec3 hi) {
 inline std::optional<Solution> solve(const Scene& scene, const SolverOptions& options, Diagnostics& diagnostics) {
     const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
     Progress progress(false);
-    return solveRadiosity(scene, parts, options, progress, diagnostics);
+    auto solution = solveRadiosity(scene, parts, options, progress, diagnostics);
+    if (!solution)  // say why, so the REQUIRE that follows is not a bare {?}
+        for (const Diagnostic& d : diagnostics.all()) MESSAGE("solve failed: " << d.message);
+    return solution;
 }
 
 }  // namespace radbake::test
