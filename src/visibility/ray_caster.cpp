@@ -85,6 +85,13 @@ struct RayCaster::Impl {
     // The usable candidates, gathered once per query so the per-segment loop is contiguous.
     std::vector<PreparedTriangle> prepare(std::span<const TriangleRef> candidates) const;
     bool occludedAmong(const DVec3& from, const DVec3& to, std::span<const PreparedTriangle> triangles) const;
+
+    // closestHit: Embree numbers a mesh's usable triangles 0..n-1, skipping unusable ones, so
+    // a primitive id is mapped back to the mesh's triangle index. Built once, on first use
+    // (thread-safe); a mesh whose triangles are all usable keeps an empty map (identity).
+    mutable std::once_flag primitive_map_once;
+    mutable std::vector<std::vector<uint32_t>> primitive_triangle;
+    void buildPrimitiveMap() const;
 };
 
 namespace {
@@ -452,6 +459,53 @@ size_t RayCaster::triangleCount() const { return impl_->triangle_count; }
 
 bool RayCaster::segmentBlocked(const DVec3& from, const DVec3& to) const { return impl_->occluded(from, to); }
 
+size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to) const {
+    constexpr size_t kLanes = 4;
+    const Impl& impl = *impl_;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    const DVec3 from_local = from - impl.origin;
+    size_t open = 0;
+    for (size_t first = 0; first < to.size(); first += kLanes) {
+        RTCRay4 packet;
+        alignas(16) int valid[kLanes];
+        for (size_t lane = 0; lane < kLanes; ++lane) {
+            valid[lane] = 0;
+            packet.org_x[lane] = static_cast<float>(from_local.x);
+            packet.org_y[lane] = static_cast<float>(from_local.y);
+            packet.org_z[lane] = static_cast<float>(from_local.z);
+            packet.dir_x[lane] = packet.dir_y[lane] = 0.0f;
+            packet.dir_z[lane] = 1.0f;
+            packet.tnear[lane] = 0.0f;
+            packet.tfar[lane] = 0.0f;
+            packet.time[lane] = 0.0f;
+            packet.mask[lane] = 0xFFFFFFFFu;
+            packet.id[lane] = static_cast<unsigned>(lane);
+            packet.flags[lane] = 0;
+            const size_t k = first + lane;
+            if (k >= to.size()) continue;
+            // The arithmetic of Impl::occluded(), so each segment gets the same answer.
+            const DVec3 delta = to[k] - from;
+            const double length = glm::length(delta);
+            if (!(length > 2.0 * impl.epsilon) || !std::isfinite(length)) {
+                ++open;
+                continue;
+            }
+            const DVec3 direction = delta / length;
+            valid[lane] = -1;
+            packet.dir_x[lane] = static_cast<float>(direction.x);
+            packet.dir_y[lane] = static_cast<float>(direction.y);
+            packet.dir_z[lane] = static_cast<float>(direction.z);
+            packet.tnear[lane] = static_cast<float>(impl.epsilon);
+            packet.tfar[lane] = static_cast<float>(length - impl.epsilon);
+        }
+        rtcOccluded4(valid, impl.scene, &context, &packet);
+        for (size_t lane = 0; lane < kLanes; ++lane)
+            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity()) ++open;
+    }
+    return open;
+}
+
 bool RayCaster::segmentBlockedAmong(const DVec3& from, const DVec3& to,
                                     std::span<const TriangleRef> candidates) const {
     return impl_->occludedAmong(from, to, impl_->prepare(candidates));
@@ -503,6 +557,63 @@ void RayCaster::appendPartTriangles(const ConvexPart& part, std::vector<Triangle
         for (uint32_t i = mesh.polygon_start[p]; i < mesh.polygon_start[p + 1]; ++i)
             out.push_back({part.mesh, mesh.polygon_triangles[i]});
     }
+}
+
+void RayCaster::Impl::buildPrimitiveMap() const {
+    primitive_triangle.assign(meshes.size(), {});
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        const MeshCopy& mesh = meshes[m];
+        if (std::all_of(mesh.valid.begin(), mesh.valid.end(), [](uint8_t v) { return v != 0; })) continue;
+        for (uint32_t t = 0; t < mesh.valid.size(); ++t)
+            if (mesh.valid[t]) primitive_triangle[m].push_back(t);
+    }
+}
+
+std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& direction, double t_max) const {
+    const double length = glm::length(direction);
+    if (!(length > 0.0) || !std::isfinite(length) || !(t_max >= impl_->epsilon)) return std::nullopt;
+    const DVec3 unit = direction / length;
+    const DVec3 origin_local = origin - impl_->origin;
+    if (!std::isfinite(origin_local.x) || !std::isfinite(origin_local.y) || !std::isfinite(origin_local.z))
+        return std::nullopt;
+    std::call_once(impl_->primitive_map_once, [this] { impl_->buildPrimitiveMap(); });
+
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit query{};
+    query.ray.org_x = static_cast<float>(origin_local.x);
+    query.ray.org_y = static_cast<float>(origin_local.y);
+    query.ray.org_z = static_cast<float>(origin_local.z);
+    query.ray.dir_x = static_cast<float>(unit.x);
+    query.ray.dir_y = static_cast<float>(unit.y);
+    query.ray.dir_z = static_cast<float>(unit.z);
+    query.ray.tnear = static_cast<float>(impl_->epsilon);
+    // Beyond float range means unbounded.
+    query.ray.tfar = t_max < static_cast<double>(std::numeric_limits<float>::max()) ? static_cast<float>(t_max)
+                                                                                      : std::numeric_limits<float>::infinity();
+    query.ray.mask = 0xFFFFFFFFu;
+    query.ray.flags = 0;
+    query.ray.time = 0.0f;
+    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    query.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &context, &query);
+    if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID || query.hit.geomID >= impl_->meshes.size()) return std::nullopt;
+
+    const uint32_t mesh = query.hit.geomID;
+    const std::vector<uint32_t>& map = impl_->primitive_triangle[mesh];
+    uint32_t triangle = query.hit.primID;
+    if (!map.empty()) {
+        if (triangle >= map.size()) return std::nullopt;
+        triangle = map[triangle];
+    }
+    if (triangle >= impl_->meshes[mesh].triangles.size()) return std::nullopt;
+    RayHit hit;
+    hit.triangle = {mesh, triangle};
+    hit.t = static_cast<double>(query.ray.tfar);
+    hit.u = static_cast<double>(query.hit.u);
+    hit.v = static_cast<double>(query.hit.v);
+    return hit;
 }
 
 size_t RayCaster::reportLateErrors(Diagnostics& diagnostics) const {

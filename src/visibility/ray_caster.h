@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -27,6 +28,14 @@ namespace radbake {
 struct TriangleRef {
     uint32_t mesh = 0;
     uint32_t triangle = 0;
+};
+
+// The first surface a ray meets (closestHit): hit point = (1 - u - v) * corner 0 + u * corner 1
+// + v * corner 2 of the triangle, at distance t along the (normalised) direction.
+struct RayHit {
+    TriangleRef triangle;
+    double t = 0.0;
+    double u = 0.0, v = 0.0;
 };
 
 class RayCaster {
@@ -49,6 +58,19 @@ public:
     // True when some triangle crosses the segment strictly between from and to, both ends
     // shortened by epsilon(). A segment shorter than 2 epsilon() is never blocked.
     bool segmentBlocked(const DVec3& from, const DVec3& to) const;
+
+    // How many of the segments from -> to[k] are NOT blocked, each judged exactly as
+    // segmentBlocked() judges it (same ends, same epsilon), cast as packets of 4 rays: a probe
+    // casts a few segments from one point to each element it gathers from.
+    size_t countOpenFrom(const DVec3& from, std::span<const DVec3> to) const;
+
+    // The nearest triangle (either face) hit by the ray origin + t * normalize(direction) with
+    // t in [epsilon(), t_max] (the start is offset like a segment's, so a ray leaving a surface
+    // does not hit it); nullopt on a miss, a zero or non-finite direction, or t_max < epsilon().
+    // t is a distance in scene units. Embree intersects in float in the centred frame, so t
+    // and (u, v) carry errors of a few 1e-7 x sceneExtent(); of two triangles sharing the
+    // edge a ray crosses, either may be reported (but always the same one).
+    std::optional<RayHit> closestHit(const DVec3& origin, const DVec3& direction, double t_max) const;
 
     // Visible fraction in [0, 1] between two convex polygons (vertices in order, 3 or more).
     // Each polygon gets n x n stratified points (n = samples_per_side; cell centres of a

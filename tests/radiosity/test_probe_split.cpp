@@ -1,0 +1,158 @@
+// The fast paths of probeIrradiance give the same bits as the general code they replace:
+// splitQuad vs splitPolygon, piecePointFormFactor vs pointPolygonFormFactor, countOpenFrom vs
+// segmentBlocked; and the probe's work counters on a case where they are known exactly.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "radiosity/evaluate_probe.h"
+#include "radiosity/form_factor.h"
+#include "test_scenes.h"
+#include "visibility/ray_caster.h"
+
+using namespace radbake;
+using namespace radbake::test;
+
+namespace {
+
+// splitmix64: a fixed sequence on every platform.
+struct Random {
+    uint64_t state;
+    double uniform() {
+        uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        z ^= z >> 31;
+        return static_cast<double>(z >> 11) * 0x1.0p-53;
+    }
+    double in(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+    DVec3 vec(double lo, double hi) { return {in(lo, hi), in(lo, hi), in(lo, hi)}; }
+};
+
+// A convex planar quad: a rectangle of random size and aspect (up to 4:1, so both split rules
+// occur), its corners jittered along its edges, in a random frame.
+std::vector<DVec3> randomQuad(Random& random) {
+    const DVec3 centre = random.vec(-2.0, 2.0);
+    DVec3 u = glm::normalize(random.vec(-1.0, 1.0) + DVec3(1e-3, 0.0, 0.0));
+    DVec3 v = glm::normalize(glm::cross(u, glm::normalize(random.vec(-1.0, 1.0) + DVec3(0.0, 0.0, 1e-3))));
+    const double a = random.in(0.05, 1.0), b = a * random.in(0.25, 4.0);
+    const double j = 0.1;  // jitter as a fraction of the sides: keeps the quad convex
+    return {centre + (-a + j * a * random.uniform()) * u - b * v, centre + a * u + (-b + j * b * random.uniform()) * v,
+            centre + (a - j * a * random.uniform()) * u + b * v, centre - a * u + (b - j * b * random.uniform()) * v};
+}
+
+DVec3 quadNormal(const std::vector<DVec3>& q) { return glm::normalize(glm::cross(q[1] - q[0], q[2] - q[0])); }
+
+bool sameBits(const DVec3& a, const DVec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+}  // namespace
+
+TEST_CASE("splitQuad gives splitPolygon's children to the bit") {
+    Random random{7};
+    int halved = 0, quartered = 0;
+    for (int trial = 0; trial < 500; ++trial) {
+        const std::vector<DVec3> quad = randomQuad(random);
+        const std::vector<std::vector<DVec3>> expected = splitPolygon(quad);
+        QuadChildren children;
+        splitQuad(quad, children);
+        REQUIRE(children.count == expected.size());
+        (children.count == 2 ? halved : quartered) += 1;
+        for (size_t c = 0; c < children.count; ++c) {
+            REQUIRE(expected[c].size() == 4);
+            for (size_t k = 0; k < 4; ++k) CHECK(sameBits(children.loops[c][k], expected[c][k]));
+        }
+    }
+    // Both rules were exercised (aspect up to 4:1 either way).
+    CHECK(halved > 50);
+    CHECK(quartered > 50);
+}
+
+TEST_CASE("piecePointFormFactor equals pointPolygonFormFactor to the bit, above, across and below the horizon") {
+    Random random{11};
+    int positive = 0, clipped = 0, zero = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const std::vector<DVec3> quad = randomQuad(random);
+        const DVec3 quad_normal = quadNormal(quad);
+        const DVec3 point = random.vec(-4.0, 4.0);
+        const DVec3 normal = glm::normalize(random.vec(-1.0, 1.0) + DVec3(0.0, 1e-3, 0.0));
+        const double expected = pointPolygonFormFactor(point, normal, quad, quad_normal);
+        const double fast = piecePointFormFactor(point, normal, quad, quad_normal);
+        CHECK(fast == expected);
+        bool all_above = true, any_above = false;
+        for (const DVec3& q : quad) {
+            all_above = all_above && glm::dot(normal, q - point) > 0.0;
+            any_above = any_above || glm::dot(normal, q - point) > 0.0;
+        }
+        if (expected > 0.0 && all_above) ++positive;
+        if (expected > 0.0 && !all_above && any_above) ++clipped;
+        if (expected == 0.0) ++zero;
+    }
+    CHECK(positive > 300);  // the fast path was taken
+    CHECK(clipped > 100);   // and the clipped case handed over
+    CHECK(zero > 300);      // behind the quad or below the horizon
+    // A triangle always takes the general path.
+    const std::vector<DVec3> triangle = {{0, 0, 1}, {0, 1, 1}, {1, 0, 1}};
+    CHECK(piecePointFormFactor({0.2, 0.2, 0}, {0, 0, 1}, triangle, {0, 0, -1}) ==
+          pointPolygonFormFactor({0.2, 0.2, 0}, {0, 0, 1}, triangle, {0, 0, -1}));
+}
+
+TEST_CASE("countOpenFrom counts exactly the segments segmentBlocked leaves open") {
+    // Three plates between z = 0 and z = 2, so a segment from below to above may be blocked by
+    // some; segments ending on a plate (its epsilon at both ends) and shorter than 2 epsilon too.
+    Scene scene;
+    const uint32_t grey = addMaterial(scene, Vec3(0.5f), Vec3(0.0f));
+    addQuad(scene, grey, {-1.0f, -1.0f, 0.5f}, {0.2f, -1.0f, 0.5f}, {0.2f, 1.0f, 0.5f}, {-1.0f, 1.0f, 0.5f});
+    addQuad(scene, grey, {-0.3f, -1.0f, 1.0f}, {1.0f, -1.0f, 1.0f}, {1.0f, 0.1f, 1.0f}, {-0.3f, 0.1f, 1.0f});
+    addQuad(scene, grey, {-1.0f, 0.4f, 1.5f}, {1.0f, 0.4f, 1.5f}, {1.0f, 1.0f, 1.5f}, {-1.0f, 1.0f, 1.5f});
+    Diagnostics diagnostics;
+    const auto caster = RayCaster::build(scene, diagnostics);
+    REQUIRE(caster);
+    Random random{3};
+    size_t blocked_total = 0, open_total = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const DVec3 from(random.in(-1.0, 1.0), random.in(-1.0, 1.0), random.in(-0.2, 0.4));
+        std::vector<DVec3> to;
+        const size_t count = 1 + static_cast<size_t>(trial % 9);  // partial and several packets
+        for (size_t k = 0; k < count; ++k) {
+            DVec3 q(random.in(-1.0, 1.0), random.in(-1.0, 1.0), random.in(0.4, 2.0));
+            if (k == 0 && trial % 5 == 0) q = from + DVec3(0.5 * caster->epsilon(), 0.0, 0.0);  // too short
+            if (k == 1 && trial % 7 == 0) q.z = 1.0;                                            // ends on a plate's plane
+            to.push_back(q);
+        }
+        size_t expected = 0;
+        for (const DVec3& q : to) expected += caster->segmentBlocked(from, q) ? 0 : 1;
+        CHECK(caster->countOpenFrom(from, to) == expected);
+        open_total += expected;
+        blocked_total += to.size() - expected;
+    }
+    CHECK(open_total > 200);
+    CHECK(blocked_total > 200);
+    CHECK(caster->countOpenFrom({0, 0, 0}, {}) == 0);
+}
+
+TEST_CASE("probe counters: an emitting square over a probe is split three times, 4 rays a piece") {
+    // A unit square lamp (L_e = 1, no reflector) at z = 1 above a probe at the origin: radius
+    // 0.707 at distance 1 is split (probe_visibility_coarse 0.1) into 4, 16 and 64 pieces; the
+    // 64 pieces (radius 0.088, distance >= 1) are coarse enough. So 1 + 4 + 16 + 64 = 85 form
+    // factors and 85 x 2 x 2 rays, 64 contributing pieces, and H = pi F to rounding.
+    Scene scene;
+    const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
+    addQuad(scene, lamp, {-0.5f, -0.5f, 1.0f}, {-0.5f, 0.5f, 1.0f}, {0.5f, 0.5f, 1.0f}, {0.5f, -0.5f, 1.0f});
+    SolverOptions options = SolverOptions::forQuality(Quality::Medium);
+    REQUIRE(options.probe_samples == 2);
+    REQUIRE(options.probe_visibility_coarse == 0.1);
+    Diagnostics diagnostics;
+    const auto solution = solve(scene, options, diagnostics);
+    REQUIRE(solution);
+    REQUIRE(solution->elements.size() == 1);
+    ProbeCounters counters;
+    const DVec3 h = probeIrradianceCounted(*solution, {0, 0, 0}, {0, 0, 1}, counters);
+    CHECK(counters.form_factors == 85);
+    CHECK(counters.rays == 85 * 4);
+    CHECK(counters.pieces == 64);
+    CHECK(sameBits(h, probeIrradiance(*solution, {0, 0, 0}, {0, 0, 1})));
+    const std::vector<DVec3> square = {{-0.5, -0.5, 1.0}, {-0.5, 0.5, 1.0}, {0.5, 0.5, 1.0}, {0.5, -0.5, 1.0}};
+    CHECK(h.x == doctest::Approx(kPi * pointPolygonFormFactor({0, 0, 0}, {0, 0, 1}, square, {0, 0, -1})).epsilon(1e-12));
+}
