@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "bake/lightmap_seams.h"
 #include "radiosity/solution.h"
 
 namespace radbake {
@@ -35,17 +36,23 @@ size_t texelIndex(const LightmapImage& image, int x, int y) { return static_cast
 }  // namespace
 
 bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane) {
+    size_t face = 0;
+    return texelSamplePoint(chart, i, j, p_plane, face);
+}
+
+bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face) {
     const double size = 1.0 / chart.texels_per_metre;
     const DVec2 lo = chart.min_plane + DVec2(i, j) * size;
     const DVec2 hi = lo + DVec2(size);
     double best = 0.0;
-    for (const ChartFace& face : chart.faces) {
-        const std::vector<DVec2> piece = clipToRectangle(face.p_plane, lo, hi);
+    for (size_t f = 0; f < chart.faces.size(); ++f) {
+        const std::vector<DVec2> piece = clipToRectangle(chart.faces[f].p_plane, lo, hi);
         if (piece.empty()) continue;
         const double area = polygonArea(piece);
         if (area > best) {
             best = area;
             p_plane = polygonCentroid(piece);
+            face = f;
         }
     }
     return best > 0.0;
@@ -72,8 +79,10 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
                 for (size_t t = range.begin(); t < range.end(); ++t) {
                     const int i = static_cast<int>(t % chart.width), j = static_cast<int>(t / chart.width);
                     DVec2 p_plane;
-                    if (!texelSamplePoint(chart, i, j, p_plane)) continue;
-                    const DVec3 value = irradiance(chart.worldPoint(p_plane), chart.normal_world) / kPi;
+                    size_t f = 0;
+                    if (!texelSamplePoint(chart, i, j, p_plane, f)) continue;
+                    const ChartFace& face = chart.faces[f];
+                    const DVec3 value = irradiance(face.worldPoint(p_plane), face.normal_world) / kPi;
                     const size_t at = texelIndex(image, chart.x + i, chart.y + j);
                     for (int c = 0; c < 3; ++c) image.rgb[3 * at + c] = static_cast<float>(value[c]);
                     image.state[at] = TexelState::Covered;
@@ -138,6 +147,7 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const LightmapO
         return probeIrradiance(solution, p, n);
     };
     lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, solution.options.threads);
+    if (options.stitch_seams) stitchLightmaps(scene, lightmaps, irradiance, options.padding, solution.options.threads);
     return true;
 }
 

@@ -23,10 +23,22 @@ struct LightmapImage {
     std::vector<TexelState> state;   // width * height
 };
 
+// What fitting the chart edges and seams did (stitchLightmaps; zero when not run).
+struct StitchStats {
+    size_t edge_samples = 0;     // points on chart boundaries whose bilinear lookup was fitted to the light there
+    size_t seam_samples = 0;     // points where two charts of one surface meet
+    size_t texels = 0;           // texels the fit could change
+    int iterations = 0;          // conjugate-gradient steps, summed over channels
+    double max_seam_before = 0;  // worst |lookup A - lookup B| / max(|A|, |B|) over seam samples and channels
+    double max_seam_after = 0;
+    double max_edge_after = 0;   // worst |lookup - light| / |light| over edge samples after the fit
+};
+
 struct Lightmaps {
     LightmapLayout layout;
     std::vector<LightmapImage> images;  // one per atlas
     size_t evaluated_texels = 0;
+    StitchStats stitch;
 };
 
 // Irradiance H (W/m^2) at a point on a surface facing `normal`; probeIrradiance in a bake.
@@ -36,6 +48,8 @@ using IrradianceFunction = std::function<DVec3(const DVec3& p_world, const DVec3
 // the texel square (a convex piece of one triangle, so the point lies on the surface, never
 // in a gap of the chart or beyond its edge). False when the texel covers no geometry.
 bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane);
+// The same, also naming the face (index into chart.faces) the point lies on.
+bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face);
 
 // Evaluates every covered texel (value = H / pi) and dilates. `threads` <= 0: all cores.
 // Each texel writes its own slot, so the images do not depend on the thread count.
@@ -46,7 +60,8 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
 // is full; texels of one chart never take light from another chart.
 void dilateLightmaps(Lightmaps& lightmaps, int padding);
 
-// The whole lightmap stage: charts, packing, texels, dilation. False after reporting.
+// The whole lightmap stage: charts, packing, texels, dilation, then (options.stitch_seams)
+// the padding ring fitted to the chart edges and seams (lightmap_seams.h). False after reporting.
 bool bakeLightmaps(const Scene& scene, const Solution& solution, const LightmapOptions& options, Lightmaps& lightmaps,
                    Diagnostics& diagnostics);
 

@@ -1,6 +1,7 @@
 // Charts: coplanar connected triangles of a mesh, grown from a seed triangle across shared
-// edges, projected onto the seed's plane and cut along a texel-aligned grid when larger
-// than the cap.
+// edges, then across smooth edges (below the mesh's crease angle) within a cone of the
+// seed's normal and without overlap, projected onto the seed's plane and cut along a
+// texel-aligned grid when larger than the cap.
 #include "bake/lightmap_charts.h"
 
 #include <algorithm>
@@ -18,12 +19,25 @@ namespace {
 // - a triangle is coplanar with a chart when its normal is within ~0.8 degrees of the
 //   seed's (1 - cos = kNormal) and its corners are within kPlane * extent of the plane;
 // - triangles with area below kDegenerate * extent^2 are dropped (no texel can see them).
-constexpr double kWeld = 1e-6;
+constexpr double kWeld = kLightmapWeld;
 constexpr double kNormal = 1e-4;
 constexpr double kPlane = 1e-5;
 constexpr double kDegenerate = 1e-14;
+// Projected triangles of one chart may touch, or overlap by rounding (kOverlap * extent), but
+// not more: two faces on one texel would fight over it.
+constexpr double kOverlap = 1e-7;
+// A face joins a chart across a smooth edge (dihedral angle below the mesh's crease angle)
+// only while its normal stays within 35 degrees of the chart's projection normal: its texels
+// are then stretched by at most 1 / cos(35 deg) = 1.22 (a texel covers at most 22 % more
+// surface than on the seed face), so resolution stays even over a curved surface. Wider cones
+// bend charts further round and stretch more; narrower ones make more charts and seams.
+constexpr double kChartConeDegrees = 35.0;
+constexpr double kNearlyFlatDegrees = 5.0;
+const double kChartConeCos = std::cos(kChartConeDegrees * kPi / 180.0);
 
-double sceneExtent(const Scene& scene) {
+}  // namespace
+
+double lightmapExtent(const Scene& scene) {
     DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (const Mesh& mesh : scene.meshes)
         for (const Vec3& p : mesh.positions) {
@@ -34,7 +48,7 @@ double sceneExtent(const Scene& scene) {
 }
 
 // Welded vertex ids: positions quantised to cells of `weld` share an id.
-std::vector<uint32_t> weldVertices(const Mesh& mesh, double weld) {
+std::vector<uint32_t> weldLightmapVertices(const Mesh& mesh, double weld) {
     std::map<std::array<int64_t, 3>, uint32_t> ids;
     std::vector<uint32_t> welded(mesh.positions.size());
     for (size_t v = 0; v < mesh.positions.size(); ++v) {
@@ -44,6 +58,8 @@ std::vector<uint32_t> weldVertices(const Mesh& mesh, double weld) {
     }
     return welded;
 }
+
+namespace {
 
 uint64_t edgeKey(uint32_t a, uint32_t b) {
     if (a > b) std::swap(a, b);
@@ -73,6 +89,45 @@ void planeFrame(LightmapChart& chart, const DVec3& normal, const DVec3& origin) 
 DVec2 toPlane(const LightmapChart& chart, const DVec3& p_world) {
     const DVec3 d = p_world - chart.origin_world;
     return DVec2(glm::dot(d, chart.u_world), glm::dot(d, chart.v_world));
+}
+
+struct ProjectedTriangle {
+    std::array<DVec2, 3> p;
+    DVec2 lo{0.0}, hi{0.0};
+    double twice_area = 0.0;  // signed: positive when it faces the chart's normal
+};
+
+ProjectedTriangle project(const LightmapChart& chart, const TriangleInfo& triangle) {
+    ProjectedTriangle out;
+    for (int k = 0; k < 3; ++k) out.p[k] = toPlane(chart, triangle.p[k]);
+    out.lo = glm::min(out.p[0], glm::min(out.p[1], out.p[2]));
+    out.hi = glm::max(out.p[0], glm::max(out.p[1], out.p[2]));
+    const DVec2 e1 = out.p[1] - out.p[0], e2 = out.p[2] - out.p[0];
+    out.twice_area = e1.x * e2.y - e1.y * e2.x;
+    return out;
+}
+
+// True when the interiors of two projected triangles overlap by more than `slack` (separating
+// axes: the six edge normals). Triangles sharing an edge or a vertex only touch.
+bool projectedOverlap(const ProjectedTriangle& a, const ProjectedTriangle& b, double slack) {
+    if (a.hi.x <= b.lo.x + slack || b.hi.x <= a.lo.x + slack || a.hi.y <= b.lo.y + slack || b.hi.y <= a.lo.y + slack)
+        return false;
+    for (const ProjectedTriangle* t : {&a, &b})
+        for (int k = 0; k < 3; ++k) {
+            const DVec2 e = t->p[(k + 1) % 3] - t->p[k];
+            const double length = glm::length(e);
+            if (!(length > 0.0)) continue;
+            const DVec2 axis(-e.y / length, e.x / length);
+            double a_lo = glm::dot(a.p[0], axis), a_hi = a_lo, b_lo = glm::dot(b.p[0], axis), b_hi = b_lo;
+            for (int i = 1; i < 3; ++i) {
+                a_lo = std::min(a_lo, glm::dot(a.p[i], axis));
+                a_hi = std::max(a_hi, glm::dot(a.p[i], axis));
+                b_lo = std::min(b_lo, glm::dot(b.p[i], axis));
+                b_hi = std::max(b_hi, glm::dot(b.p[i], axis));
+            }
+            if (a_hi <= b_lo + slack || b_hi <= a_lo + slack) return false;
+        }
+    return true;
 }
 
 // Sutherland-Hodgman against one axis-aligned half-plane: keep side * (p[axis] - bound) <= 0.
@@ -132,8 +187,10 @@ void emitCharts(LightmapChart region, int cap, double area_floor, const Lightmap
             piece.faces.clear();
             for (const ChartFace& face : region.faces) {
                 std::vector<DVec2> clipped = clipToRectangle(face.p_plane, lo, lo + DVec2(cell));
-                if (!clipped.empty() && polygonArea(clipped) > area_floor)
-                    piece.faces.push_back(ChartFace{face.triangle, std::move(clipped)});
+                if (clipped.empty() || !(polygonArea(clipped) > area_floor)) continue;
+                ChartFace part = face;
+                part.p_plane = std::move(clipped);
+                piece.faces.push_back(std::move(part));
             }
             if (piece.faces.empty()) continue;
             fitToFaces(piece, options);
@@ -147,7 +204,7 @@ void emitCharts(LightmapChart region, int cap, double area_floor, const Lightmap
 void meshCharts(const Scene& scene, uint32_t m, double extent, int cap, const LightmapOptions& options,
                 std::vector<LightmapChart>& charts) {
     const Mesh& mesh = scene.meshes[m];
-    const std::vector<uint32_t> welded = weldVertices(mesh, kWeld * extent);
+    const std::vector<uint32_t> welded = weldLightmapVertices(mesh, kWeld * extent);
     std::vector<TriangleInfo> info(mesh.triangles.size());
     std::unordered_map<uint64_t, std::vector<uint32_t>> edges;
     const double area_floor = kDegenerate * extent * extent;
@@ -165,6 +222,13 @@ void meshCharts(const Scene& scene, uint32_t m, double extent, int cap, const Li
     }
 
     std::vector<bool> assigned(mesh.triangles.size(), false);
+    // Edges bent less than kNearlyFlatDegrees join charts even at crease angle 0: measured
+    // or hand-modelled walls are rarely exactly planar (the Cornell Box's walls bend by a
+    // fraction of a degree along their diagonals), and a chart per triangle would put a seam
+    // across every such wall. Each face keeps its own normal for its texels.
+    const double cos_crease =
+        std::cos(std::max(static_cast<double>(mesh.crease_angle), kNearlyFlatDegrees * kPi / 180.0));
+    const bool smooth_edges = true;
     for (uint32_t seed = 0; seed < mesh.triangles.size(); ++seed) {
         if (assigned[seed] || info[seed].degenerate) continue;
         const DVec3 normal = info[seed].normal;
@@ -179,26 +243,53 @@ void meshCharts(const Scene& scene, uint32_t m, double extent, int cap, const Li
         region.mesh = m;
         region.material = mesh.material;
         planeFrame(region, normal, info[seed].p[0]);
-        std::vector<uint32_t> stack{seed};
-        assigned[seed] = true;
-        std::vector<uint32_t> members;
-        while (!stack.empty()) {
-            const uint32_t t = stack.back();
-            stack.pop_back();
-            members.push_back(t);
+        const auto neighbours = [&](uint32_t t, const auto& visit) {
             const UVec3& tri = mesh.triangles[t];
-            for (int k = 0; k < 3; ++k) {
-                for (uint32_t n : edges[edgeKey(welded[tri[k]], welded[tri[(k + 1) % 3]])]) {
-                    if (assigned[n] || info[n].degenerate || !coplanar(n)) continue;
+            for (int k = 0; k < 3; ++k)
+                for (uint32_t n : edges[edgeKey(welded[tri[k]], welded[tri[(k + 1) % 3]])])
+                    if (!assigned[n] && !info[n].degenerate) visit(n);
+        };
+        // First the coplanar connected region, as a flat chart (no overlap possible).
+        std::vector<uint32_t> members{seed};
+        assigned[seed] = true;
+        for (size_t next = 0; next < members.size(); ++next)
+            neighbours(members[next], [&](uint32_t n) {
+                if (!coplanar(n)) return;
+                assigned[n] = true;
+                members.push_back(n);
+            });
+        // Then across smooth edges, breadth first (round charts), each face checked against the cone,
+        // for flips and for overlap with every face already in.
+        if (smooth_edges) {
+            std::vector<ProjectedTriangle> projected;
+            for (uint32_t t : members) projected.push_back(project(region, info[t]));
+            for (size_t next = 0; next < members.size(); ++next) {
+                const uint32_t t = members[next];
+                neighbours(t, [&](uint32_t n) {
+                    if (glm::dot(info[n].normal, info[t].normal) < cos_crease) return;  // a crease
+                    if (glm::dot(info[n].normal, normal) < kChartConeCos) return;
+                    const ProjectedTriangle candidate = project(region, info[n]);
+                    if (!(candidate.twice_area > 0.0)) return;  // flipped or edge-on
+                    for (const ProjectedTriangle& other : projected)
+                        if (projectedOverlap(candidate, other, kOverlap * extent)) return;
                     assigned[n] = true;
-                    stack.push_back(n);
-                }
+                    members.push_back(n);
+                    projected.push_back(candidate);
+                });
             }
         }
         std::sort(members.begin(), members.end());  // faces in triangle order, whatever the walk
-        for (uint32_t t : members)
-            region.faces.push_back(
-                ChartFace{t, {toPlane(region, info[t].p[0]), toPlane(region, info[t].p[1]), toPlane(region, info[t].p[2])}});
+        for (uint32_t t : members) {
+            ChartFace face;
+            face.triangle = t;
+            for (int k = 0; k < 3; ++k) {
+                face.corner_world[k] = info[t].p[k];
+                face.corner_plane[k] = toPlane(region, info[t].p[k]);
+            }
+            face.p_plane.assign(face.corner_plane.begin(), face.corner_plane.end());
+            face.normal_world = info[t].normal;
+            region.faces.push_back(std::move(face));
+        }
         emitCharts(std::move(region), cap, area_floor, options, charts);
     }
 }
@@ -225,7 +316,7 @@ double polygonArea(const std::vector<DVec2>& polygon) {
 
 std::vector<LightmapChart> buildLightmapCharts(const Scene& scene, const LightmapOptions& options) {
     std::vector<LightmapChart> charts;
-    const double extent = sceneExtent(scene);
+    const double extent = lightmapExtent(scene);
     // A chart must fit an atlas with its padding on both sides.
     const int cap = std::max(1, std::min(options.max_chart_texels, options.atlas_size - 2 * options.padding));
     for (uint32_t m = 0; m < scene.meshes.size(); ++m) meshCharts(scene, m, extent, cap, options, charts);

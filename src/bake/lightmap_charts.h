@@ -1,7 +1,10 @@
 #pragma once
 // Lightmap charts and their packing into atlases (issue 5). A chart is a connected set of
-// coplanar triangles of one mesh (so one material), projected onto its plane and measured
-// in texels at a fixed texel density; charts larger than the cap are cut into pieces along
+// coplanar triangles of one mesh (so one material), grown further across the mesh's smooth
+// edges (dihedral angle below Mesh::crease_angle) while every face stays within a cone of the
+// chart's normal and no two projected faces overlap; it is projected onto the seed face's
+// plane (each face keeps its own triangle: ChartFace::worldPoint) and measured in texels at a
+// fixed texel density; charts larger than the cap are cut into pieces along
 // a grid in their plane, so one huge floor cannot eat an atlas.
 //
 // Texel frame: a chart's texel (i, j) covers plane coordinates
@@ -25,6 +28,9 @@ struct LightmapOptions {
     int min_chart_texels = 2;     // no chart side is smaller, however small its region
     int atlas_size = 1024;        // --atlas-size: atlases are at most this many texels a side
     int padding = 2;              // texels around every chart that belong to it alone (dilation fills them)
+    // Fit the padding ring so that bilinear lookups along every chart edge give the light
+    // there and both sides of a seam agree (lightmap_seams.h). Off: dilation only.
+    bool stitch_seams = true;
 };
 
 // The part of one source triangle that lies in a chart: the whole triangle (3 points) or,
@@ -32,6 +38,22 @@ struct LightmapOptions {
 struct ChartFace {
     uint32_t triangle = 0;           // index into Mesh::triangles
     std::vector<DVec2> p_plane;      // counter-clockwise, metres in the chart's plane frame
+    // The whole source triangle, projected (corner_plane) and in the world (corner_world):
+    // a chart across smooth edges is not flat, so a plane point is lifted back onto its own
+    // face's triangle and evaluated with that face's normal.
+    std::array<DVec2, 3> corner_plane{};
+    std::array<DVec3, 3> corner_world{};
+    DVec3 normal_world{0.0, 0.0, 1.0};
+
+    // The point of this face's triangle that projects to p_plane (barycentric lift).
+    DVec3 worldPoint(const DVec2& p_plane) const {
+        const DVec2 e1 = corner_plane[1] - corner_plane[0], e2 = corner_plane[2] - corner_plane[0];
+        const DVec2 d = p_plane - corner_plane[0];
+        const double det = e1.x * e2.y - e1.y * e2.x;
+        if (det == 0.0) return corner_world[0];
+        const double b1 = (d.x * e2.y - d.y * e2.x) / det, b2 = (e1.x * d.y - e1.y * d.x) / det;
+        return corner_world[0] + b1 * (corner_world[1] - corner_world[0]) + b2 * (corner_world[2] - corner_world[0]);
+    }
 };
 
 struct LightmapChart {
@@ -53,6 +75,8 @@ struct LightmapChart {
     DVec2 atlasTexel(const DVec2& p_plane) const {
         return DVec2(x, y) + (p_plane - min_plane) * texels_per_metre;
     }
+    // The point of the chart's projection plane (on the geometry only for a flat chart; use
+    // ChartFace::worldPoint for the surface point).
     DVec3 worldPoint(const DVec2& p_plane) const { return origin_world + p_plane.x * u_world + p_plane.y * v_world; }
 };
 
@@ -72,6 +96,18 @@ struct LightmapLayout {
 // its pieces in several); charts come out mesh by mesh, in triangle order. Emitters get
 // charts too (their texels hold what they receive). Unplaced (atlas == -1).
 std::vector<LightmapChart> buildLightmapCharts(const Scene& scene, const LightmapOptions& options);
+
+// The scene's bounding-box diagonal (1 for an empty scene): the length every chart and seam
+// tolerance is scaled by.
+double lightmapExtent(const Scene& scene);
+
+// Relative weld distance (times the extent): float positions carry ~1e-7 relative rounding,
+// transforms a little more.
+inline constexpr double kLightmapWeld = 1e-6;
+
+// Welded vertex ids of a mesh: positions within about `weld` of each other (one quantisation
+// cell) share an id, so edges of faces with duplicated vertices still connect.
+std::vector<uint32_t> weldLightmapVertices(const Mesh& mesh, double weld);
 
 // The part of a convex polygon inside the rectangle [lo, hi] (empty when fewer than 3 points remain).
 std::vector<DVec2> clipToRectangle(std::vector<DVec2> polygon, const DVec2& lo, const DVec2& hi);

@@ -45,11 +45,12 @@ std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayou
         // computed from the same float position are bit-identical).
         std::map<std::pair<double, double>, uint32_t> ids;
         const Mesh& source = scene.meshes[chart.mesh];
-        const auto vertex = [&](const DVec2& p, uint32_t triangle) {
+        const auto vertex = [&](const DVec2& p, const ChartFace& face) {
+            const uint32_t triangle = face.triangle;
             const auto [it, added] = ids.emplace(std::make_pair(p.x, p.y), static_cast<uint32_t>(out.positions.size()));
             if (added) {
                 const DVec2 texel = chart.atlasTexel(p);
-                const DVec3 p_world = chart.worldPoint(p);
+                const DVec3 p_world = face.worldPoint(p);  // on its own face: charts may bend
                 const UVec3 corners = source.triangles[triangle];
                 out.source_corners.push_back(corners);
                 out.barycentric.push_back(barycentricOf(p_world, DVec3(source.positions[corners.x]),
@@ -63,7 +64,7 @@ std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayou
         };
         for (const ChartFace& face : chart.faces) {
             std::vector<uint32_t> loop;
-            for (const DVec2& p : face.p_plane) loop.push_back(vertex(p, face.triangle));
+            for (const DVec2& p : face.p_plane) loop.push_back(vertex(p, face));
             for (size_t k = 1; k + 1 < loop.size(); ++k) {
                 out.triangles.push_back(UVec3(loop[0], loop[k], loop[k + 1]));
                 out.source_triangle.push_back(face.triangle);

@@ -15,8 +15,11 @@
 #include <tbb/global_control.h>
 
 #include "bake/vertex_bake.h"
+#include "cli/bake_outputs.h"
 #include "cli/commands.h"
 #include "export/gltf_writer.h"
+#include "export/hash.h"
+#include "export/manifest.h"
 #include "export/output_transaction.h"
 #include "export/ply_writer.h"
 #include "export/probes.h"
@@ -38,12 +41,16 @@ struct BakeArgs {
     std::string probes;
     ImportOptions import;
     bool quiet = false;
+    bool preview = false;
+    LightmapArgs lightmaps;
     // Raw knobs; applied over the preset only when given on the command line.
     double error_threshold = 0.0;
+    double local_error_threshold = 0.0;
     double min_area = 0.0;
     double tolerance = 0.0;
     int max_iterations = 0;
     CLI::Option* error_threshold_option = nullptr;
+    CLI::Option* local_error_threshold_option = nullptr;
     CLI::Option* min_area_option = nullptr;
     CLI::Option* tolerance_option = nullptr;
     CLI::Option* max_iterations_option = nullptr;
@@ -79,6 +86,7 @@ SolverOptions solverOptions(const BakeArgs& args) {
     options.visibility = lookup(kVisibilities, args.visibility_name);
     options.threads = args.threads;
     if (args.error_threshold_option->count()) options.error_threshold = args.error_threshold;
+    if (args.local_error_threshold_option->count()) options.local_error_threshold = args.local_error_threshold;
     if (args.min_area_option->count()) options.min_element_area = args.min_area;
     if (args.tolerance_option->count()) options.iteration_tolerance = args.tolerance;
     if (args.max_iterations_option->count()) options.max_iterations = args.max_iterations;
@@ -112,6 +120,27 @@ std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Pr
     return irradiance;
 }
 
+// What an EXR header records of the bake: enough to tell which scene and settings made it.
+// Nothing here depends on the thread count or the clock, so outputs stay byte-identical.
+std::vector<std::pair<std::string, std::string>> provenance(const BakeArgs& args, const SolverOptions& options,
+                                                            const std::string& scene_sha256) {
+    const double texel_density = args.lightmaps.texel_density > 0.0
+                                     ? args.lightmaps.texel_density
+                                     : kDefaultTexelsPerMetre * static_cast<double>(args.import.unit_scale);
+    char knobs[512];
+    std::snprintf(knobs, sizeof knobs,
+                  "quality=%s visibility=%s error_threshold=%g local_error_threshold=%g min_area=%g tolerance=%g max_iterations=%d "
+                  "unit_scale=%g emission_scale=%g texel_density=%g atlas_size=%d padding=%d",
+                  toString(options.quality), toString(options.visibility), options.error_threshold,
+                  options.local_error_threshold, options.min_element_area, options.iteration_tolerance, options.max_iterations,
+                  static_cast<double>(args.import.unit_scale), static_cast<double>(args.import.emission_scale),
+                  texel_density, args.lightmaps.atlas_size, args.lightmaps.padding);
+    return {{"radbake:version", kGenerator},
+            {"radbake:scene", std::filesystem::path(args.scene).filename().string()},
+            {"radbake:scene_sha256", scene_sha256},
+            {"radbake:options", knobs}};
+}
+
 // Everything after the import; false after reporting. Outputs are only staged here.
 bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Probe>& probes,
                   OutputTransaction& transaction, Progress& progress, Diagnostics& diagnostics,
@@ -130,6 +159,15 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
     progress.beginPhase("vertices");
     const VertexBake bake = bakeVertices(scene, *solution);
 
+    BakedLightmaps baked;
+    if (!args.lightmaps.skip) {
+        progress.beginPhase("lightmaps");
+        if (!bakeSceneLightmaps(scene, *solution, args.lightmaps, args.import.unit_scale, baked, report.lightmaps,
+                                diagnostics))
+            return false;
+    }
+    const LightmapFiles* lightmap_files = args.lightmaps.skip ? nullptr : &baked.files;
+
     std::vector<DVec3> irradiance;
     if (!args.probes.empty()) {
         progress.beginPhase("probes");
@@ -137,10 +175,29 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
     }
 
     progress.beginPhase("write");
-    if (!writeGlb(transaction.stage(scene.name + ".glb"), scene, bake, GltfOptions{kGenerator}, diagnostics))
-        return false;
-    if (!writePly(transaction.stage(scene.name + ".ply"), scene, bake, PlyOptions{kGenerator}, diagnostics))
-        return false;
+    GltfOptions gltf;
+    gltf.generator = kGenerator;
+    gltf.lightmaps = lightmap_files;
+    if (!writeGlb(transaction.stage(scene.name + ".glb"), scene, bake, gltf, diagnostics)) return false;
+    PlyOptions ply;
+    ply.generator = kGenerator;
+    ply.lightmaps = lightmap_files;
+    if (!writePly(transaction.stage(scene.name + ".ply"), scene, bake, ply, diagnostics)) return false;
+    // Older lightmaps and previews would not match this bake: whatever this run does not
+    // write under those folders is removed on commit.
+    transaction.retireUnstagedIn("lightmaps");
+    transaction.retireUnstagedIn("preview");
+    if (!args.lightmaps.skip) {
+        const std::optional<std::string> scene_hash = sha256File(args.scene, diagnostics);
+        if (!scene_hash) return false;
+        if (!stageLightmapExrs(transaction, baked, provenance(args, report.options, *scene_hash),
+                               args.lightmaps.exr_float, diagnostics))
+            return false;
+    }
+    if (args.preview) {
+        progress.beginPhase("preview");
+        if (!stagePreviews(transaction, scene, bake, args.lightmaps.skip ? nullptr : &baked, diagnostics)) return false;
+    }
     if (args.probes.empty()) {
         transaction.retire("probes.csv");  // an older one would not match this bake
     } else if (!writeProbesCsv(transaction.stage("probes.csv"), probes, irradiance, diagnostics)) {
@@ -153,7 +210,10 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
     report.seconds = progress.totalSeconds();
     report.peak_rss_mb = peakRssMegabytes();
     report.warnings = diagnostics.warningCount();
-    return writeStatsJson(transaction.stage("stats.json"), report, diagnostics);
+    if (!writeStatsJson(transaction.stage("stats.json"), report, diagnostics)) return false;
+    // The manifest last: the size and SHA-256 of every other output.
+    const std::vector<std::string> outputs = transaction.staged();
+    return writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), outputs, kGenerator, diagnostics);
 }
 
 int runBake(const BakeArgs& args) {
@@ -202,10 +262,17 @@ int runBake(const BakeArgs& args) {
     if (!transaction.commit(diagnostics)) return kExitInputError;
 
     const SolveStats& s = report.solve;
-    std::printf("radbake: baked %s in %.2f s: %zu elements, %zu links (%zu occluded), %d iterations%s, "
+    std::string lightmaps;
+    if (report.lightmaps.baked) {
+        char buffer[128];
+        std::snprintf(buffer, sizeof buffer, ", %zu lightmap%s (%.0f%% occupied)", report.lightmaps.atlases,
+                      report.lightmaps.atlases == 1 ? "" : "s", 100.0 * report.lightmaps.occupancy);
+        lightmaps = buffer;
+    }
+    std::printf("radbake: baked %s in %.2f s: %zu elements, %zu links (%zu occluded), %d iterations%s%s, "
                 "%d warning%s -> %s\n",
                 args.scene.c_str(), report.seconds, s.elements, s.links, s.occluded_links, s.iterations,
-                s.converged ? "" : " (not converged)", diagnostics.warningCount(),
+                s.converged ? "" : " (not converged)", lightmaps.c_str(), diagnostics.warningCount(),
                 diagnostics.warningCount() == 1 ? "" : "s", transaction.outDir().string().c_str());
     return kExitOk;
 }
@@ -254,6 +321,12 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "Refine a link while the power it may misplace exceeds this fraction of the emitted power; " +
                             presetValues(&SolverOptions::error_threshold))
             ->check(CLI::PositiveNumber);
+    args->local_error_threshold_option =
+        cmd->add_option("--local-error-threshold", args->local_error_threshold,
+                        "Also split the source of a link to an element at the --min-area floor while its form "
+                        "factor may vary by more than this fraction of what the element receives (0: off); " +
+                            presetValues(&SolverOptions::local_error_threshold))
+            ->check(CLI::NonNegativeNumber);
     args->min_area_option =
         cmd->add_option("--min-area", args->min_area,
                         "Smallest element area, relative to the scene's total area; " +
@@ -269,6 +342,20 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
             ->check(CLI::PositiveNumber);
 
+    cmd->add_flag("--no-lightmaps", args->lightmaps.skip, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
+    cmd->add_option("--texel-density", args->lightmaps.texel_density, "Lightmap texels per scene unit")
+        ->check(CLI::PositiveNumber)
+        ->default_str("16 per metre, from --unit-scale");
+    cmd->add_option("--atlas-size", args->lightmaps.atlas_size, "Largest lightmap atlas side, in texels")
+        ->check(CLI::Range(16, 16384))
+        ->capture_default_str();
+    cmd->add_option("--padding", args->lightmaps.padding,
+                    "Texels around every chart, filled by dilation, so bilinear filtering never reads a neighbour")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
+    cmd->add_flag("--preview", args->preview,
+                  "Also write preview/: a tone-mapped PNG of each atlas and a view of the baked scene");
     cmd->add_flag("--strict", args->import.strict, "Unknown VRML nodes and fields are errors");
     cmd->add_flag("-q,--quiet", args->quiet, "Print only warnings, errors and a one-line summary");
     cmd->callback([args, &result] {

@@ -32,6 +32,14 @@ struct Samples {
     const char* unit = "vertex";             // "texel", "vertex", "probe"
     int width = 0;                           // images: texel (x, y) from the index
     std::vector<std::pair<size_t, std::string>> groups;  // (first sample, name), glb meshes
+    // Data that must match exactly for the values to be comparable at all: the lightmap UVs
+    // (a texel of one bake is not the same surface point in the other otherwise).
+    struct Exact {
+        std::string name;  // "TEXCOORD_1 of mesh 'floor' primitive 0", "u1 v1", ...
+        size_t components = 1;
+        std::vector<double> values;
+    };
+    std::vector<Exact> exact;
     size_t count() const { return values.size() / 3; }
 };
 
@@ -202,44 +210,79 @@ Samples loadExr(const fs::path& path) {
     return samples;
 }
 
-// COLOR_0 (float VEC3) of every primitive of every mesh, in file order.
-Samples loadGlb(const fs::path& path) {
-    const std::string bytes = readBytes(path);
+// The BIN chunk of a glb and its JSON, for reading float accessors.
+struct GlbFile {
+    std::string bytes;
+    Json root;
+    size_t bin_offset = 0, bin_length = 0;
+
+    // A float accessor of `components` per element, e.g. COLOR_0 (3) or TEXCOORD_1 (2).
+    std::vector<double> floats(size_t accessor_index, size_t components, const std::string& what) const {
+        const Json& accessor = root.at("accessors").at(accessor_index);
+        const char* type = components == 2 ? "VEC2" : components == 3 ? "VEC3" : "SCALAR";
+        if (accessor.at("componentType").index() != 5126 || accessor.at("type").string != type)
+            fail("glb: " + what + " is not float " + type);
+        const Json& view = root.at("bufferViews").at(accessor.at("bufferView").index());
+        const size_t count = accessor.at("count").index();
+        const size_t stride = view.indexOr("byteStride", 4 * components);
+        const size_t start = view.indexOr("byteOffset", 0) + accessor.indexOr("byteOffset", 0);
+        if (count > 0 && start + (count - 1) * stride + 4 * components > bin_length)
+            fail("glb: " + what + " is outside the buffer");
+        std::vector<double> out;
+        out.reserve(count * components);
+        for (size_t v = 0; v < count; ++v)
+            for (size_t c = 0; c < components; ++c) out.push_back(readLe<float>(bytes, bin_offset + start + v * stride + 4 * c));
+        return out;
+    }
+};
+
+GlbFile readGlb(const fs::path& path) {
+    GlbFile glb;
+    glb.bytes = readBytes(path);
+    const std::string& bytes = glb.bytes;
     if (readLe<uint32_t>(bytes, 0) != 0x46546C67u) fail("not a glb file (bad magic)");
     const uint32_t json_length = readLe<uint32_t>(bytes, 12);
     if (readLe<uint32_t>(bytes, 16) != 0x4E4F534Au || 20 + size_t{json_length} > bytes.size()) fail("glb: no JSON chunk");
-    const Json root = JsonReader(std::string_view(bytes).substr(20, json_length)).document();
-    size_t bin_offset = 20 + json_length, bin_length = 0;
-    if (bin_offset + 8 <= bytes.size()) {
-        bin_length = readLe<uint32_t>(bytes, bin_offset);
-        bin_offset += 8;
-        if (bin_offset + bin_length > bytes.size()) fail("glb: truncated BIN chunk");
+    glb.root = JsonReader(std::string_view(bytes).substr(20, json_length)).document();
+    glb.bin_offset = 20 + json_length;
+    if (glb.bin_offset + 8 <= bytes.size()) {
+        glb.bin_length = readLe<uint32_t>(bytes, glb.bin_offset);
+        glb.bin_offset += 8;
+        if (glb.bin_offset + glb.bin_length > bytes.size()) fail("glb: truncated BIN chunk");
     }
+    return glb;
+}
+
+// COLOR_0 (float VEC3) of every primitive of every mesh, in file order; a primitive's
+// TEXCOORD_1 (lightmap UVs) and lightmap file must match exactly.
+Samples loadGlb(const fs::path& path) {
+    const GlbFile glb = readGlb(path);
     Samples samples;
     samples.channel_names = {"R", "G", "B"};
-    const Json* meshes = root.find("meshes");
+    const Json* meshes = glb.root.find("meshes");
     const size_t mesh_count = meshes ? meshes->array.size() : 0;
     for (size_t m = 0; m < mesh_count; ++m) {
         const Json& mesh = meshes->at(m);
         const Json* name = mesh.find("name");
         const Json& primitives = mesh.at("primitives");
         for (size_t p = 0; p < primitives.array.size(); ++p) {
-            const Json* color = primitives.at(p).at("attributes").find("COLOR_0");
+            const Json& primitive = primitives.at(p);
+            const Json* color = primitive.at("attributes").find("COLOR_0");
             std::string group = "mesh " + (name ? "'" + name->string + "'" : std::to_string(m));
             if (primitives.array.size() > 1) group += " primitive " + std::to_string(p);
             if (!color) fail("glb: " + group + " has no COLOR_0");
-            const Json& accessor = root.at("accessors").at(color->index());
-            if (accessor.at("componentType").index() != 5126 || accessor.at("type").string != "VEC3")
-                fail("glb: COLOR_0 of " + group + " is not float VEC3");
-            const Json& view = root.at("bufferViews").at(accessor.at("bufferView").index());
-            const size_t count = accessor.at("count").index();
-            const size_t stride = view.indexOr("byteStride", 12);
-            const size_t start = view.indexOr("byteOffset", 0) + accessor.indexOr("byteOffset", 0);
-            if (count > 0 && start + (count - 1) * stride + 12 > bin_length) fail("glb: COLOR_0 of " + group + " is outside the buffer");
+            const std::vector<double> colors = glb.floats(color->index(), 3, "COLOR_0 of " + group);
             samples.groups.emplace_back(samples.count(), group);
-            samples.layout += group + ": " + std::to_string(count) + " vertices\n";
-            for (size_t v = 0; v < count; ++v)
-                for (size_t c = 0; c < 3; ++c) samples.values.push_back(readLe<float>(bytes, bin_offset + start + v * stride + 4 * c));
+            samples.layout += group + ": " + std::to_string(colors.size() / 3) + " vertices";
+            if (const Json* extras = primitive.find("extras"))
+                if (const Json* lightmap = extras->find("radbake_lightmap")) samples.layout += ", lightmap " + lightmap->string;
+            if (const Json* uv = primitive.at("attributes").find("TEXCOORD_1")) {
+                samples.layout += ", TEXCOORD_1";
+                const std::string what = "TEXCOORD_1 of " + group;
+                samples.exact.push_back({what, 2, glb.floats(uv->index(), 2, what)});
+            }
+            samples.layout += "\n";
+            samples.values.insert(samples.values.end(), colors.begin(), colors.end());
         }
     }
     return samples;
@@ -253,7 +296,19 @@ size_t plyTypeSize(const std::string& type) {
     fail("ply: unknown property type '" + type + "'");
 }
 
-// red/green/blue of the first element (which must be `vertex`) of a binary little-endian PLY.
+double plyValue(const std::string& bytes, size_t at, const std::string& type) {
+    if (type == "float" || type == "float32") return readLe<float>(bytes, at);
+    if (type == "double" || type == "float64") return readLe<double>(bytes, at);
+    if (type == "uchar" || type == "uint8") return readLe<uint8_t>(bytes, at);
+    if (type == "char" || type == "int8") return readLe<int8_t>(bytes, at);
+    if (type == "ushort" || type == "uint16") return readLe<uint16_t>(bytes, at);
+    if (type == "short" || type == "int16") return readLe<int16_t>(bytes, at);
+    if (type == "uint" || type == "uint32") return readLe<uint32_t>(bytes, at);
+    return readLe<int32_t>(bytes, at);
+}
+
+// red/green/blue of the first element (which must be `vertex`) of a binary little-endian PLY;
+// the lightmap UVs (u1 v1) and atlas index (lightmap), when present, must match exactly.
 Samples loadPly(const fs::path& path) {
     const std::string bytes = readBytes(path);
     const size_t end = bytes.find("end_header\n");
@@ -307,6 +362,21 @@ Samples loadPly(const fs::path& path) {
             else if (type == "uchar" || type == "uint8") samples.values.push_back(readLe<uint8_t>(bytes, at) / 255.0);
             else fail("ply: colour property of type " + type);
         }
+    }
+    const std::vector<std::vector<std::string>> exact_sets = {{"u1", "v1"}, {"lightmap"}};
+    for (const std::vector<std::string>& names : exact_sets) {
+        if (!properties.count(names.front())) continue;
+        Samples::Exact exact;
+        for (const std::string& name : names) {
+            if (!properties.count(name)) fail("ply: '" + names.front() + "' without '" + name + "'");
+            exact.name += (exact.name.empty() ? "" : " ") + name;
+        }
+        exact.components = names.size();
+        for (size_t v = 0; v < vertices; ++v)
+            for (const std::string& name : names)
+                exact.values.push_back(plyValue(bytes, body + v * stride + properties[name].first, properties[name].second));
+        samples.layout += ", " + exact.name;
+        samples.exact.push_back(std::move(exact));
     }
     return samples;
 }
@@ -382,13 +452,56 @@ double excessOf(double abs_err, double rel_err, const CompareOptions& options) {
     return std::min(by_abs, by_rel);
 }
 
+// The first line where two layout texts differ (both lines, without their line breaks).
+std::pair<std::string, std::string> firstDifferentLines(const std::string& a, const std::string& b) {
+    std::istringstream in_a(a), in_b(b);
+    std::string line_a, line_b;
+    while (true) {
+        const bool got_a = static_cast<bool>(std::getline(in_a, line_a));
+        const bool got_b = static_cast<bool>(std::getline(in_b, line_b));
+        if (!got_a) line_a = "nothing";
+        if (!got_b) line_b = "nothing";
+        if (line_a != line_b || (!got_a && !got_b)) return {line_a, line_b};
+    }
+}
+
+// Empty when the two runs of exact data are equal (NaN matches NaN); else where they differ.
+std::string exactDifference(const Samples::Exact& a, const Samples::Exact& b) {
+    if (a.name != b.name || a.values.size() != b.values.size()) return "different layouts (" + a.name + " vs " + b.name + ")";
+    const auto tuple = [](const Samples::Exact& data, size_t element) {
+        std::string text = data.components > 1 ? "(" : "";
+        char number[32];
+        for (size_t c = 0; c < data.components; ++c) {
+            std::snprintf(number, sizeof number, "%.9g", data.values[element * data.components + c]);
+            text += (c ? ", " : "") + std::string(number);
+        }
+        return text + (data.components > 1 ? ")" : "");
+    };
+    for (size_t i = 0; i < a.values.size(); ++i) {
+        const double va = a.values[i], vb = b.values[i];
+        if (va == vb || (std::isnan(va) && std::isnan(vb))) continue;
+        const size_t element = i / a.components;
+        return a.name + " differs at vertex " + std::to_string(element) + ": " + tuple(a, element) + " vs " +
+               tuple(b, element) + " (must match exactly)";
+    }
+    return {};
+}
+
 void compareSamples(const Samples& a, const Samples& b, const CompareOptions& options, FileDifference& out) {
     out.samples = a.count();
     if (a.layout != b.layout) {
         out.comparable = false;
-        out.problem = "different layouts (" + a.layout.substr(0, a.layout.find('\n')) + " vs " +
-                      b.layout.substr(0, b.layout.find('\n')) + ")";
+        const auto [line_a, line_b] = firstDifferentLines(a.layout, b.layout);
+        out.problem = "different layouts (" + line_a + " vs " + line_b + ")";
         return;
+    }
+    for (size_t e = 0; e < a.exact.size(); ++e) {
+        const std::string problem = exactDifference(a.exact[e], b.exact[e]);
+        if (!problem.empty()) {
+            out.comparable = false;
+            out.problem = problem;
+            return;
+        }
     }
     const double inf = std::numeric_limits<double>::infinity();
     for (size_t c = 0; c < 3; ++c) {

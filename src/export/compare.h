@@ -3,15 +3,22 @@
 // same kind, compared value by value.
 //
 //   .exr        R, G, B of every texel (the images must have the same size)
-//   .glb        COLOR_0 of every vertex of every mesh (same meshes, same vertex counts)
-//   .ply        red, green, blue of every vertex (same vertex count)
+//   .glb        COLOR_0 of every vertex of every primitive of every mesh (same meshes, same
+//               primitives, same vertex counts, same lightmap file per primitive); a
+//               primitive's TEXCOORD_1 (lightmap UVs) must match exactly
+//   .ply        red, green, blue of every vertex (same vertex count); u1 v1 and lightmap,
+//               when present, must match exactly
 //   probes.csv  r, g, b of every probe (same probes: x..nz must match as written)
+//
+// Lightmap UVs are layout, not values: with different UVs a texel of one bake is not the
+// same surface point in the other, so the files are not comparable (exit 2).
 //
 // A value pair (a, b) is within tolerance when |a - b| <= abs_tol or
 // |a - b| <= rel_tol * max(|a|, |b|): abs_tol covers dark values, rel_tol bright ones. A NaN
 // on one side only is an infinite difference. Directories are compared file by file over
 // every file of these kinds under A (recursively); a file missing from B, or one of these
-// kinds present only in B, makes the directories not comparable. Other files are ignored.
+// kinds present only in B, makes the directories not comparable. Other files (manifest.json,
+// stats.json, preview PNGs) are ignored: they hold hashes, timings and tone-mapped pictures.
 #include <array>
 #include <cstddef>
 #include <filesystem>

@@ -83,6 +83,90 @@ int addVec3Accessor(JsonLists& lists, std::string& bin, const std::vector<Vec3>&
     return addAccessor(lists, view, kFloat, data.size(), "VEC3", min_max);
 }
 
+// A TEXCOORD accessor, with bounds (optional in glTF, but they let a reader check [0, 1]).
+int addVec2Accessor(JsonLists& lists, std::string& bin, const std::vector<Vec2>& data) {
+    const size_t offset = bin.size();
+    append(bin, data);
+    const int view = addView(lists, offset, data.size() * sizeof(Vec2), kArrayBuffer);
+    Vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Vec2& p : data) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    return addAccessor(lists, view, kFloat, data.size(), "VEC2",
+                       ",\"min\":[" + num(lo.x) + "," + num(lo.y) + "],\"max\":[" + num(hi.x) + "," + num(hi.y) + "]");
+}
+
+// One triangle primitive's accessors and JSON; `uv` (the lightmap UVs) may be null.
+struct PrimitiveData {
+    const std::vector<Vec3>& positions;
+    const std::vector<Vec3>& normals;
+    const std::vector<Vec3>& colors;
+    const std::vector<Vec2>* uv;
+    const std::vector<UVec3>& triangles;
+};
+
+std::string primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& data, const std::string& tail) {
+    const int position = addVec3Accessor(lists, bin, data.positions, true);
+    const int normal = addVec3Accessor(lists, bin, data.normals, false);
+    const int color = addVec3Accessor(lists, bin, data.colors, false);
+    const int uv = data.uv ? addVec2Accessor(lists, bin, *data.uv) : -1;
+    const size_t index_offset = bin.size();
+    append(bin, data.triangles);  // UVec3 = three packed uint32
+    const int index_view = addView(lists, index_offset, data.triangles.size() * sizeof(UVec3), kElementArrayBuffer);
+    const int indices = addAccessor(lists, index_view, kUnsignedInt, data.triangles.size() * 3, "SCALAR");
+    std::string json = "{\"attributes\":{\"POSITION\":" + std::to_string(position) +
+                       ",\"NORMAL\":" + std::to_string(normal) + ",\"COLOR_0\":" + std::to_string(color);
+    // Both UV sets share one accessor (see the header: radbake has no material UVs).
+    if (uv >= 0) json += ",\"TEXCOORD_0\":" + std::to_string(uv) + ",\"TEXCOORD_1\":" + std::to_string(uv);
+    return json + "},\"indices\":" + std::to_string(indices) + ",\"mode\":4" + tail + "}";
+}
+
+// The vertices of `lightmap_mesh` on atlas `atlas`, renumbered in order of first use.
+struct AtlasPart {
+    std::vector<Vec3> positions, normals, colors;
+    std::vector<Vec2> uv;
+    std::vector<UVec3> triangles;
+};
+
+AtlasPart atlasPart(const LightmapMesh& lightmap_mesh, int atlas, const std::vector<Vec3>& normals,
+                    const std::vector<Vec3>& colors) {
+    AtlasPart part;
+    std::vector<uint32_t> renumbered(lightmap_mesh.positions.size(), UINT32_MAX);
+    for (const UVec3& t : lightmap_mesh.triangles) {
+        if (lightmap_mesh.atlas[t.x] != atlas) continue;  // all three corners share one atlas
+        UVec3 out;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t& index = renumbered[t[k]];
+            if (index == UINT32_MAX) {
+                index = static_cast<uint32_t>(part.positions.size());
+                part.positions.push_back(lightmap_mesh.positions[t[k]]);
+                part.normals.push_back(normals[t[k]]);
+                part.colors.push_back(colors[t[k]]);
+                part.uv.push_back(lightmap_mesh.uv[t[k]]);
+            }
+            out[k] = index;
+        }
+        part.triangles.push_back(out);
+    }
+    return part;
+}
+
+// The atlases a lightmap mesh's triangles use, ascending.
+std::vector<int> atlasesUsed(const LightmapMesh& lightmap_mesh) {
+    std::vector<int> atlases;
+    for (const UVec3& t : lightmap_mesh.triangles) atlases.push_back(lightmap_mesh.atlas[t.x]);
+    std::sort(atlases.begin(), atlases.end());
+    atlases.erase(std::unique(atlases.begin(), atlases.end()), atlases.end());
+    return atlases;
+}
+
+std::string stringList(const std::vector<std::string>& items) {
+    std::string out = "[";
+    for (size_t i = 0; i < items.size(); ++i) out += (i ? "," : "") + jsonString(items[i]);
+    return out + "]";
+}
+
 std::string materialJson(const Material& material, bool& uses_strength) {
     const Vec3 rho = glm::clamp(material.reflectance, Vec3(0.0f), Vec3(1.0f));
     std::string json = "{\"name\":" + jsonString(material.name) +
@@ -128,6 +212,7 @@ bool checkBakeMatchesScene(const Scene& scene, const VertexBake& bake, Diagnosti
 std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOptions& options,
                       Diagnostics& diagnostics) {
     if (!checkBakeMatchesScene(scene, bake, diagnostics)) return {};
+    if (options.lightmaps && !checkLightmapsMatchScene(scene, *options.lightmaps, diagnostics)) return {};
 
     JsonLists lists;
     std::string bin;
@@ -135,21 +220,36 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         if (mesh.triangles.empty() || mesh.positions.empty()) continue;  // glTF accessors need count >= 1
-        const int position = addVec3Accessor(lists, bin, mesh.positions, true);
-        const int normal = addVec3Accessor(lists, bin, vertexNormals(mesh), false);
-        const int color = addVec3Accessor(lists, bin, finiteVertexValues(mesh, &bake.values[m], non_finite), false);
-        const size_t index_offset = bin.size();
-        append(bin, mesh.triangles);  // UVec3 = three packed uint32
-        const int index_view = addView(lists, index_offset, mesh.triangles.size() * sizeof(UVec3), kElementArrayBuffer);
-        const int indices = addAccessor(lists, index_view, kUnsignedInt, mesh.triangles.size() * 3, "SCALAR");
-
-        std::string primitive = "{\"attributes\":{\"POSITION\":" + std::to_string(position) +
-                                ",\"NORMAL\":" + std::to_string(normal) + ",\"COLOR_0\":" + std::to_string(color) +
-                                "},\"indices\":" + std::to_string(indices) + ",\"mode\":4";
-        if (mesh.material < scene.materials.size()) primitive += ",\"material\":" + std::to_string(mesh.material);
-        primitive += "}";
+        const std::string material_tail =
+            mesh.material < scene.materials.size() ? ",\"material\":" + std::to_string(mesh.material) : std::string();
+        std::string primitives, mesh_extras;
+        const LightmapMesh* lightmap_mesh = options.lightmaps ? &options.lightmaps->meshes[m] : nullptr;
+        if (lightmap_mesh && !lightmap_mesh->triangles.empty()) {
+            // One primitive per atlas: an engine binds one lightmap texture per primitive.
+            const std::vector<Vec3> normals = lightmapVertexNormals(mesh, *lightmap_mesh);
+            const std::vector<Vec3> colors = lightmapVertexValues(mesh, *lightmap_mesh, &bake.values[m], non_finite);
+            std::vector<std::string> files;
+            for (const int atlas : atlasesUsed(*lightmap_mesh)) {
+                const AtlasPart part = atlasPart(*lightmap_mesh, atlas, normals, colors);
+                const std::string& file = options.lightmaps->atlas_files[static_cast<size_t>(atlas)];
+                const std::string extras = ",\"extras\":{\"radbake_lightmap\":" + jsonString(file) +
+                                           ",\"radbake_lightmap_index\":" + std::to_string(atlas) + "}";
+                primitives += std::string(files.empty() ? "" : ",") +
+                              primitiveJson(lists, bin, {part.positions, part.normals, part.colors, &part.uv, part.triangles},
+                                            material_tail + extras);
+                files.push_back(file);
+            }
+            mesh_extras = ",\"extras\":{\"radbake_lightmaps\":" + stringList(files) + "}";
+        } else {
+            primitives = primitiveJson(
+                lists, bin,
+                {mesh.positions, vertexNormals(mesh), finiteVertexValues(mesh, &bake.values[m], non_finite), nullptr,
+                 mesh.triangles},
+                material_tail);
+        }
         const std::string name = mesh.name.empty() ? "mesh" + std::to_string(m) : mesh.name;
-        lists.meshes.push_back("{\"name\":" + jsonString(name) + ",\"primitives\":[" + primitive + "]}");
+        lists.meshes.push_back("{\"name\":" + jsonString(name) + ",\"primitives\":[" + primitives + "]" +
+                               mesh_extras + "}");
         lists.nodes.push_back("{\"name\":" + jsonString(name) + ",\"mesh\":" + std::to_string(lists.meshes.size() - 1) + "}");
     }
     if (non_finite > 0)
@@ -163,7 +263,12 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     for (size_t i = 0; i < lists.nodes.size(); ++i) node_indices.push_back(std::to_string(i));
 
     std::string json = "{\"asset\":{\"version\":\"2.0\",\"generator\":" + jsonString(options.generator) +
-                       ",\"extras\":{\"COLOR_0\":\"baked irradiance H/pi per vertex, linear, unclamped\"}}";
+                       ",\"extras\":{\"COLOR_0\":\"baked irradiance H/pi per vertex, linear, unclamped\"";
+    if (options.lightmaps) {
+        json += ",\"TEXCOORD_1\":\"lightmap UVs (TEXCOORD_0 repeats them); u right, v down from the top row\"" +
+                std::string(",\"radbake_lightmaps\":") + stringList(options.lightmaps->atlas_files);
+    }
+    json += "}}";
     if (uses_strength) json += ",\"extensionsUsed\":[\"KHR_materials_emissive_strength\"]";
     json += ",\"scene\":0,\"scenes\":[{\"name\":" + jsonString(scene.name) + ",\"nodes\":" + joined(node_indices) + "}]";
     json += ",\"nodes\":" + joined(lists.nodes) + ",\"meshes\":" + joined(lists.meshes);

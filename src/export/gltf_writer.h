@@ -5,17 +5,33 @@
 // exceed 1) and uint32 indices; one glTF material per Scene material with baseColorFactor =
 // reflectance and emissiveFactor = emission (emission above 1 is normalised and carried by
 // KHR_materials_emissive_strength).
+//
+// With lightmaps (GltfOptions::lightmaps), a mesh that has charts is written from its
+// LightmapMesh instead (vertices split at chart seams), as one primitive per atlas it uses,
+// since an engine binds one lightmap per primitive:
+//   POSITION, NORMAL (the source normals carried over with interpolateSource when the mesh
+//   has them, else the face normal of the source triangle), COLOR_0 (the vertex bake carried
+//   over with interpolateSource), TEXCOORD_1 = the lightmap UVs (u right, v down from the
+//   image's top row, in [0, 1] of the atlas) and TEXCOORD_0 = the same accessor: glTF wants
+//   UV sets numbered from 0 without gaps, and radbake reads no material UVs.
+//   primitive extras: {"radbake_lightmap": "lightmaps/x_0.exr", "radbake_lightmap_index": 0}
+//   mesh extras:      {"radbake_lightmaps": [the mesh's files, by atlas index]}
+//   asset extras:     "radbake_lightmaps": every atlas file.
+// glTF has no EXR images, so the files are named in extras rather than as textures. Meshes
+// without charts are written as without lightmaps; with no lightmaps the output is unchanged.
 #include <filesystem>
 #include <string>
 
 #include "bake/vertex_bake.h"
 #include "core/diagnostics.h"
+#include "export/lightmap_files.h"
 #include "scene/scene.h"
 
 namespace radbake {
 
 struct GltfOptions {
     std::string generator = "radbake";  // asset.generator, e.g. "radbake 0.1.0"
+    const LightmapFiles* lightmaps = nullptr;  // when set, meshes with charts carry TEXCOORD_1
 };
 
 // The whole .glb file as bytes; empty after reporting an error (bake does not match the scene).

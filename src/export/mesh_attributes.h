@@ -2,7 +2,9 @@
 // Per-vertex attributes the exporters share.
 #include <vector>
 
+#include "core/diagnostics.h"
 #include "core/math.h"
+#include "export/lightmap_files.h"
 #include "scene/scene.h"
 
 namespace radbake {
@@ -15,5 +17,19 @@ std::vector<Vec3> vertexNormals(const Mesh& mesh);
 // The baked value of every vertex of `mesh`, with missing or non-finite entries as 0;
 // `replaced` counts the entries that were not finite numbers.
 std::vector<Vec3> finiteVertexValues(const Mesh& mesh, const std::vector<Vec3>* values, size_t& replaced);
+
+// True when `lightmaps` fits `scene`: one LightmapMesh per mesh, per-vertex arrays of one
+// length, indices within their meshes, every atlas index naming a file and the three corners
+// of each triangle in one atlas. Otherwise reports (internal error) and returns false.
+bool checkLightmapsMatchScene(const Scene& scene, const LightmapFiles& lightmaps, Diagnostics& diagnostics);
+
+// Unit normal per lightmap vertex: the source mesh's own normals carried over with
+// interpolateSource when it has one per vertex; otherwise the face normal of the source
+// triangle under it (a lightmap mesh is split at chart seams, so faces keep hard edges).
+std::vector<Vec3> lightmapVertexNormals(const Mesh& mesh, const LightmapMesh& lightmap_mesh);
+
+// The baked value per lightmap vertex: interpolateSource over finiteVertexValues.
+std::vector<Vec3> lightmapVertexValues(const Mesh& mesh, const LightmapMesh& lightmap_mesh,
+                                       const std::vector<Vec3>* values, size_t& replaced);
 
 }  // namespace radbake

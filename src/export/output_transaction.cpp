@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -31,7 +32,9 @@ SourceLocation at(const fs::path& p) { return {p.string(), 0, 0}; }
 // What the signal handler removes, kept in plain static storage: a handler may only call
 // async-signal-safe functions (unlink, rmdir), so the paths are laid out in advance.
 // Slot 0 is the staging directory; the others are files that may exist inside it.
-constexpr int kMaxSignalPaths = 64;
+// 256 slots: two per staged file (it and its backup) plus its directories, enough for a
+// bake with a hundred lightmap atlases.
+constexpr int kMaxSignalPaths = 256;
 constexpr size_t kMaxPathBytes = 4096;
 char g_signal_paths[kMaxSignalPaths][kMaxPathBytes];
 std::atomic<int> g_signal_path_count{0};
@@ -46,7 +49,9 @@ void registerSignalPath(const fs::path& path) {
 
 void removeStagingOnSignal(int signal_number) {
     const int count = g_signal_path_count.load();
-    for (int i = count - 1; i >= 1; --i) unlink(g_signal_paths[i]);
+    // Directories were registered before their files, so reverse order empties them first.
+    for (int i = count - 1; i >= 1; --i)
+        if (unlink(g_signal_paths[i]) != 0) rmdir(g_signal_paths[i]);
     if (count > 0) rmdir(g_signal_paths[0]);
     ::signal(signal_number, SIG_DFL);
     ::raise(signal_number);
@@ -106,16 +111,102 @@ bool OutputTransaction::begin(Diagnostics& diagnostics) {
     return true;
 }
 
+namespace {
+
+// A relative name with '/' separators that cannot leave the directory it is relative to.
+bool isSafeRelativeName(std::string_view name) {
+    if (name.empty() || name.front() == '/') return false;
+    size_t start = 0;
+    while (start <= name.size()) {
+        const size_t end = std::min(name.find('/', start), name.size());
+        const std::string_view part = name.substr(start, end - start);
+        if (part.empty() || part == "." || part == "..") return false;
+        start = end + 1;
+    }
+    return true;
+}
+
+// Backups live flat in the staging directory: "lightmaps/a_0.exr" -> ".old-lightmaps%2Fa_0.exr"
+// ('%' is escaped first, so two names never share a backup).
+std::string flatName(const std::string& name) {
+    std::string out;
+    for (char c : name) {
+        if (c == '%') out += "%25";
+        else if (c == '/') out += "%2F";
+        else out += c;
+    }
+    return out;
+}
+
+}  // namespace
+
+fs::path OutputTransaction::backupOf(const std::string& name) const { return staging_dir_ / (".old-" + flatName(name)); }
+
 fs::path OutputTransaction::stage(std::string_view file_name) {
-    staged_.emplace_back(file_name);
-    registerSignalPath(staging_dir_ / fs::path(file_name));
-    registerSignalPath(staging_dir_ / (".old-" + std::string(file_name)));
-    return staging_dir_ / fs::path(file_name);
+    const std::string name(file_name);
+    if (!isSafeRelativeName(name)) {
+        // The writer still gets somewhere harmless to write; commit() refuses the whole bake.
+        rejected_.push_back(name);
+        const fs::path scratch = staging_dir_ / (".rejected-" + std::to_string(rejected_.size()));
+        registerSignalPath(scratch);
+        return scratch;
+    }
+    const fs::path path = staging_dir_ / fs::path(name);
+    if (std::find(staged_.begin(), staged_.end(), name) != staged_.end()) return path;
+    staged_.push_back(name);
+    if (!staging_dir_.empty()) {
+        // Each directory is registered before the files in it: the signal handler removes
+        // paths in reverse order, so a directory is empty by the time it reaches it.
+        fs::path dir = staging_dir_;
+        const fs::path relative_parent = fs::path(name).parent_path();
+        for (const fs::path& part : relative_parent) {
+            dir /= part;
+            std::error_code ec;
+            if (fs::create_directory(dir, ec)) registerSignalPath(dir);
+            // On failure (a file of that name) the writer's open fails and reports the path.
+        }
+    }
+    registerSignalPath(path);
+    registerSignalPath(backupOf(name));
+    return path;
 }
 
 void OutputTransaction::retire(std::string_view file_name) {
-    retired_.emplace_back(file_name);
-    registerSignalPath(staging_dir_ / (".old-" + std::string(file_name)));
+    const std::string name(file_name);
+    if (!isSafeRelativeName(name)) {
+        rejected_.push_back(name);
+        return;
+    }
+    retired_.push_back(name);
+    registerSignalPath(backupOf(name));
+}
+
+void OutputTransaction::retireUnstagedIn(std::string_view directory) {
+    const std::string name(directory);
+    if (!isSafeRelativeName(name)) {
+        rejected_.push_back(name);
+        return;
+    }
+    retired_dirs_.push_back(name);
+}
+
+bool OutputTransaction::checkNames(Diagnostics& diagnostics) const {
+    for (const std::string& name : rejected_)
+        diagnostics.error(at(out_dir_), "internal: output name '" + name +
+                                            "' is not a relative path inside the output directory");
+    return rejected_.empty();
+}
+
+std::vector<std::string> OutputTransaction::unstagedIn(const std::string& directory) const {
+    std::vector<std::string> out;
+    std::error_code ec;
+    for (fs::directory_iterator it(out_dir_ / directory, ec), end; !ec && it != end; it.increment(ec)) {
+        if (!it->is_regular_file(ec)) continue;  // sub-directories are not ours to judge
+        const std::string name = directory + "/" + it->path().filename().string();
+        if (std::find(staged_.begin(), staged_.end(), name) == staged_.end()) out.push_back(name);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 bool OutputTransaction::commit(Diagnostics& diagnostics) {
@@ -123,6 +214,7 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
         diagnostics.error(at(out_dir_), "internal: output transaction committed before it began");
         return false;
     }
+    if (!checkNames(diagnostics)) return false;
     std::error_code ec;
     for (const std::string& name : staged_) {
         if (!fs::is_regular_file(staging_dir_ / name, ec)) {
@@ -147,6 +239,10 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
     committed_ = true;
     fs::remove_all(staging_dir_, ec);  // only backups of the replaced files remain there
     staging_dir_.clear();
+    for (const std::string& dir : retired_dirs_) {
+        const fs::path path = out_dir_ / dir;
+        if (fs::is_directory(path, ec) && fs::is_empty(path, ec)) fs::remove(path, ec);
+    }
     return true;
 }
 
@@ -159,8 +255,8 @@ bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
         bool retired = false;  // no new file: the old one is only moved aside
     };
     std::vector<Step> done;
+    std::vector<fs::path> made_dirs;  // directories of OUTDIR this commit created, in order
     std::error_code ec;
-    auto backupOf = [&](const std::string& name) { return staging_dir_ / (".old-" + name); };
     auto rollBack = [&] {
         std::error_code ignored;
         for (auto it = done.rbegin(); it != done.rend(); ++it) {
@@ -172,8 +268,16 @@ bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
             }
             if (it->had_old) fs::rename(backupOf(it->name), target, ignored);
         }
+        for (auto it = made_dirs.rbegin(); it != made_dirs.rend(); ++it) fs::remove(*it, ignored);
     };
-    for (const std::string& name : retired_) {
+    std::vector<std::string> retired = retired_;
+    for (const std::string& dir : retired_dirs_) {
+        for (std::string& name : unstagedIn(dir)) {
+            registerSignalPath(backupOf(name));
+            retired.push_back(std::move(name));
+        }
+    }
+    for (const std::string& name : retired) {
         const fs::path target = out_dir_ / name;
         if (!fs::is_regular_file(target, ec)) continue;
         fs::rename(target, backupOf(name), ec);
@@ -186,6 +290,20 @@ bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
     }
     for (const std::string& name : staged_) {
         const fs::path target = out_dir_ / name;
+        // Sub-directories ("lightmaps/") are made on the way, remembered for the roll-back.
+        for (fs::path dir = out_dir_; const fs::path& part : fs::path(name).parent_path()) {
+            dir /= part;
+            if (fs::is_directory(dir, ec)) continue;
+            if (!fs::create_directory(dir, ec)) {
+                std::error_code ignored;
+                diagnostics.error(at(dir), "cannot create output directory: " +
+                                               (fs::exists(dir, ignored) ? std::string("a file is in the way")
+                                                                         : ec.message()));
+                rollBack();
+                return false;
+            }
+            made_dirs.push_back(dir);
+        }
         Step step{name, fs::exists(target, ec)};
         if (step.had_old) {
             fs::rename(target, backupOf(name), ec);

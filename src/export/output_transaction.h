@@ -23,13 +23,25 @@ public:
     // Creates the staging directory (and OUTDIR's missing parents). False after reporting.
     bool begin(Diagnostics& diagnostics);
 
-    // Where to write the output called `file_name` (a plain name, no directories); the file
-    // is registered for commit whether or not the writer succeeds.
+    // Where to write the output called `file_name`, a relative path with '/' separators
+    // ("a.glb", "lightmaps/a_0.exr"); its directories are created in the staging directory.
+    // The file is registered for commit whether or not the writer succeeds. A name that is
+    // absolute, empty or has "..", "." or empty components is refused: the returned path is a
+    // scratch file inside the staging directory and commit() fails naming it.
     std::filesystem::path stage(std::string_view file_name);
 
     // An output this run does not produce (e.g. probes.csv without --probes): an older file
     // of that name in OUTDIR is removed on commit, so OUTDIR never mixes two bakes.
     void retire(std::string_view file_name);
+
+    // A directory of outputs this run owns (e.g. "lightmaps"): on commit, every regular file
+    // directly inside OUTDIR/directory that this run did not stage is removed, and the
+    // directory too when that leaves it empty, so a bake with fewer atlases (or none) leaves
+    // no stale ones. Removed files are restored like replaced ones if the commit fails.
+    void retireUnstagedIn(std::string_view directory);
+
+    // The relative names passed to stage() and accepted, in staging order, without repeats.
+    const std::vector<std::string>& staged() const { return staged_; }
 
     // Moves every staged file into OUTDIR. When OUTDIR does not exist the staging directory
     // is renamed into place in one step; otherwise files are renamed one by one and the
@@ -44,10 +56,15 @@ public:
 
 private:
     bool commitIntoExisting(Diagnostics& diagnostics);
+    bool checkNames(Diagnostics& diagnostics) const;
+    std::vector<std::string> unstagedIn(const std::string& directory) const;
+    std::filesystem::path backupOf(const std::string& name) const;
     std::filesystem::path out_dir_;
     std::filesystem::path staging_dir_;
     std::vector<std::string> staged_;
     std::vector<std::string> retired_;
+    std::vector<std::string> retired_dirs_;
+    std::vector<std::string> rejected_;                // names stage()/retireUnstagedIn() refused
     std::vector<std::filesystem::path> created_dirs_;  // parents we made, deepest last
     bool committed_ = false;
 };

@@ -56,6 +56,7 @@ std::string formatStatsJson(const BakeReport& r) {
     out += std::string("  \"visibility\": \"") + toString(r.options.visibility) + "\",\n";
     out += std::string("  \"quality\": \"") + toString(r.options.quality) + "\",\n";
     out += "  \"error_threshold\": " + num(r.options.error_threshold) + ",\n";
+    out += "  \"local_error_threshold\": " + num(r.options.local_error_threshold) + ",\n";
     out += "  \"min_area\": " + num(r.options.min_element_area) + ",\n";
     out += "  \"tolerance\": " + num(r.options.iteration_tolerance) + ",\n";
     out += "  \"max_iterations\": " + std::to_string(r.options.max_iterations) + ",\n";
@@ -63,6 +64,18 @@ std::string formatStatsJson(const BakeReport& r) {
     out += "  \"vertices\": " + std::to_string(r.vertices) + ",\n";
     out += "  \"triangles\": " + std::to_string(r.triangles) + ",\n";
     out += "  \"probes\": " + std::to_string(r.probes) + ",\n";
+    const LightmapReport& l = r.lightmaps;
+    out += std::string("  \"lightmaps\": ") + (l.baked ? "true" : "false") + ",\n";
+    if (l.baked) {
+        out += "  \"texel_density\": " + num(l.texels_per_unit) + ",\n";
+        out += "  \"atlas_size\": " + std::to_string(l.atlas_size) + ",\n";
+        out += "  \"padding\": " + std::to_string(l.padding) + ",\n";
+        out += "  \"charts\": " + std::to_string(l.charts) + ",\n";
+        out += "  \"atlases\": " + std::to_string(l.atlases) + ",\n";
+        out += "  \"atlas_texels\": " + std::to_string(l.atlas_texels) + ",\n";
+        out += "  \"covered_texels\": " + std::to_string(l.covered_texels) + ",\n";
+        out += "  \"occupancy\": " + num(l.occupancy) + ",\n";
+    }
     out += "  \"warnings\": " + std::to_string(r.warnings) + "\n";
     return out + "}\n";
 }

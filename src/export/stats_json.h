@@ -10,6 +10,18 @@
 
 namespace radbake {
 
+// The lightmap stage's figures (all zero when lightmaps were not baked).
+struct LightmapReport {
+    bool baked = false;
+    double texels_per_unit = 0.0;  // --texel-density, texels per scene unit
+    int atlas_size = 0;            // --atlas-size: the largest atlas side
+    int padding = 0;
+    size_t charts = 0, atlases = 0;
+    size_t atlas_texels = 0;       // texels of every atlas together
+    size_t covered_texels = 0;     // texels evaluated from the solution
+    double occupancy = 0.0;        // chart texels (padding excluded) / atlas texels
+};
+
 struct BakeReport {
     std::string generator;  // "radbake <version>"
     std::string scene;      // path as given
@@ -21,6 +33,7 @@ struct BakeReport {
     double peak_rss_mb = 0.0;
     size_t meshes = 0, vertices = 0, triangles = 0, probes = 0;
     int warnings = 0;
+    LightmapReport lightmaps;
 };
 
 // Peak resident set size of this process so far, in MiB (getrusage).

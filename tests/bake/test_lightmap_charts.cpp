@@ -181,3 +181,112 @@ TEST_CASE("the cap never exceeds what an atlas holds with padding") {
     CHECK(charts.size() == 9);  // ceil(128 / 60) = 3 by 3
     for (const LightmapChart& chart : charts) CHECK(chart.width <= 60);
 }
+
+namespace {
+
+// The side of a cylinder around +Y (radius 1, height 2) as `facets` outward quads with shared
+// vertices, two triangles each.
+Mesh cylinderSide(int facets, float crease_angle) {
+    Mesh mesh;
+    mesh.name = "cylinder";
+    mesh.crease_angle = crease_angle;
+    for (int i = 0; i < facets; ++i) {
+        const double theta = 2.0 * kPi * i / facets;
+        mesh.positions.push_back(Vec3(std::cos(theta), 0.0, std::sin(theta)));
+        mesh.positions.push_back(Vec3(std::cos(theta), 2.0, std::sin(theta)));
+    }
+    for (uint32_t i = 0; i < static_cast<uint32_t>(facets); ++i) {
+        const uint32_t b0 = 2 * i, t0 = b0 + 1, b1 = 2 * ((i + 1) % facets), t1 = b1 + 1;
+        mesh.triangles.push_back({b0, t0, t1});
+        mesh.triangles.push_back({b0, t1, b1});
+        mesh.triangle_polygon.push_back(i);
+        mesh.triangle_polygon.push_back(i);
+    }
+    mesh.polygon_count = static_cast<uint32_t>(facets);
+    return mesh;
+}
+
+bool strictlyInside(const DVec2& p, const std::vector<DVec2>& polygon, double margin) {
+    for (size_t k = 0; k < polygon.size(); ++k) {
+        const DVec2 e = polygon[(k + 1) % polygon.size()] - polygon[k], d = p - polygon[k];
+        if ((e.x * d.y - e.y * d.x) / glm::length(e) <= margin) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("charts grow across smooth edges within the cone, without overlap or flips") {
+    const double cone_cos = std::cos(35.0 * kPi / 180.0);
+    const Scene scene = sceneOf({cylinderSide(32, 0.5f)});  // facets 11.25 degrees apart, crease 28.6
+    const Mesh& mesh = scene.meshes[0];
+    for (const UVec3& t : mesh.triangles) {  // the facets face outwards
+        const DVec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
+        const DVec3 centre = (a + b + c) / 3.0;
+        CHECK(glm::dot(glm::cross(b - a, c - a), DVec3(centre.x, 0.0, centre.z)) > 0.0);
+    }
+    LightmapOptions options;
+    options.texel_density = 16.0;
+    const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
+    // 360 degrees of facets, at most 7 facets (+-3 around the seed) within a 35 degree cone.
+    CHECK(charts.size() >= 5);
+    CHECK(charts.size() <= 8);
+    std::multiset<uint32_t> triangles;
+    double area = 0.0;
+    for (const LightmapChart& chart : charts) {
+        CHECK(chart.faces.size() >= 2);  // greedy seeds in triangle order: 7 facets, then 4 each, one left over
+        area += chart.area;
+        for (const ChartFace& face : chart.faces) {
+            triangles.insert(face.triangle);
+            // Within the cone, facing the chart's normal (no flip), stretch at most 1 / cos(cone).
+            const double cos_angle = glm::dot(face.normal_world, chart.normal_world);
+            CHECK(cos_angle >= cone_cos);
+            const double world_area =
+                0.5 * glm::length(glm::cross(face.corner_world[1] - face.corner_world[0], face.corner_world[2] - face.corner_world[0]));
+            const double plane_area = polygonArea(face.p_plane);
+            CHECK(plane_area > 0.0);
+            CHECK(world_area / plane_area <= 1.0 / cone_cos + 1e-9);
+            // Plane points lift back onto the face's own triangle, corners onto its corners.
+            const UVec3 tri = mesh.triangles[face.triangle];
+            for (int k = 0; k < 3; ++k)
+                CHECK(glm::length(face.worldPoint(face.corner_plane[k]) - DVec3(mesh.positions[tri[k]])) < 1e-6);
+            for (const DVec2& p : face.p_plane)
+                CHECK(std::fabs(glm::dot(face.worldPoint(p) - face.corner_world[0], face.normal_world)) < 1e-6);
+        }
+        checkFacesInside(chart);
+        // No overlap, texel by texel: 4 x 4 points per texel, each inside at most one face.
+        size_t covered_points = 0;
+        for (int j = 0; j < chart.height; ++j)
+            for (int i = 0; i < chart.width; ++i)
+                for (int sj = 0; sj < 4; ++sj)
+                    for (int si = 0; si < 4; ++si) {
+                        const DVec2 p = chart.min_plane + (DVec2(i, j) + (DVec2(si, sj) + 0.5) / 4.0) / chart.texels_per_metre;
+                        int inside = 0;
+                        for (const ChartFace& face : chart.faces) inside += strictlyInside(p, face.p_plane, 1e-9);
+                        CHECK(inside <= 1);
+                        covered_points += inside == 1;
+                    }
+        CHECK(covered_points > 0);
+    }
+    CHECK(triangles.size() == 64);  // every triangle in exactly one chart
+    CHECK(std::set<uint32_t>(triangles.begin(), triangles.end()).size() == 64);
+    CHECK(area < 2.0 * 2.0 * kPi);  // projected: less than the side's surface
+    CHECK(area > 2.0 * 2.0 * kPi * cone_cos);
+
+    // Crease angle 0: every facet is its own flat chart, as before.
+    const std::vector<LightmapChart> flat = buildLightmapCharts(sceneOf({cylinderSide(32, 0.0f)}), options);
+    CHECK(flat.size() == 32);
+    for (const LightmapChart& chart : flat) CHECK(chart.faces.size() == 2);
+}
+
+TEST_CASE("a cube with a large crease angle is still 6 charts") {
+    for (bool share : {true, false}) {
+        Mesh cube = cubeMesh(1.0f, share);
+        cube.crease_angle = 1.2f;  // 69 degrees: its 90 degree edges are still creases
+        LightmapOptions options;
+        options.texel_density = 10.0;
+        CHECK(buildLightmapCharts(sceneOf({cube}), options).size() == 6);
+        cube.crease_angle = 1.6f;  // above 90 degrees: the edges are smooth, but 90 > the 35 degree cone
+        CHECK(buildLightmapCharts(sceneOf({cube}), options).size() == 6);
+    }
+}

@@ -110,3 +110,48 @@ TEST_CASE("lightmap vertices carry source attributes: positions interpolate back
         CHECK(glm::length(interpolateSource(mesh, v, source) - mesh.positions[v]) < 1e-5f);
     }
 }
+
+TEST_CASE("a chart bent across smooth edges keeps its vertices on their own faces") {
+    // An open half-cylinder of 8 facets (22.5 degrees apart) with crease angle 0.5 rad.
+    Mesh half;
+    half.crease_angle = 0.5f;
+    for (int i = 0; i <= 8; ++i) {
+        const double theta = kPi * i / 8;
+        half.positions.push_back(Vec3(std::cos(theta), 0.0, std::sin(theta)));
+        half.positions.push_back(Vec3(std::cos(theta), 1.5, std::sin(theta)));
+    }
+    for (uint32_t i = 0; i < 8; ++i) {
+        const uint32_t b0 = 2 * i, t0 = b0 + 1, b1 = b0 + 2, t1 = b0 + 3;
+        half.triangles.push_back({b0, t0, t1});
+        half.triangles.push_back({b0, t1, b1});
+        half.triangle_polygon.push_back(i);
+        half.triangle_polygon.push_back(i);
+    }
+    half.polygon_count = 8;
+    Scene scene;
+    scene.materials.resize(1);
+    scene.meshes = {half};
+    LightmapOptions options;
+    options.texel_density = 12.0;
+    options.max_chart_texels = 10;  // and cut by the cap: pieces of bent charts
+    options.atlas_size = 256;
+    LightmapLayout layout;
+    Diagnostics diagnostics;
+    REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
+    size_t bent = 0;
+    for (const LightmapChart& chart : layout.charts)
+        for (const ChartFace& face : chart.faces) bent += glm::dot(face.normal_world, chart.normal_world) < 0.99;
+    CHECK(bent > 0);
+    const LightmapMesh mesh = lightmapMeshes(scene, layout)[0];
+    CHECK(meshArea(mesh.positions, mesh.triangles, nullptr) ==
+          doctest::Approx(meshArea(half.positions, half.triangles, nullptr)).epsilon(1e-6));
+    for (size_t v = 0; v < mesh.positions.size(); ++v)
+        CHECK(glm::length(interpolateSource(mesh, v, half.positions) - mesh.positions[v]) < 1e-5f);
+    // Each lightmap triangle lies on its source triangle's plane.
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const UVec3 s = half.triangles[mesh.source_triangle[t]];
+        const DVec3 a(half.positions[s.x]);
+        const DVec3 n = glm::normalize(glm::cross(DVec3(half.positions[s.y]) - a, DVec3(half.positions[s.z]) - a));
+        for (int k = 0; k < 3; ++k) CHECK(std::fabs(glm::dot(DVec3(mesh.positions[mesh.triangles[t][k]]) - a, n)) < 1e-5);
+    }
+}

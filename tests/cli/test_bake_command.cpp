@@ -97,7 +97,9 @@ TEST_CASE("bake writes glb, ply, probes.csv and stats.json; probes match the clo
                                      quote(tmp.path / "probes.txt") + " --quiet");
     INFO(run.output);
     REQUIRE(run.exit_code == 0);
-    CHECK(filesIn(out) == std::set<std::string>{"lamp.glb", "lamp.ply", "probes.csv", "stats.json"});
+    CHECK(filesIn(out) ==
+          std::set<std::string>{"lamp.glb", "lamp.ply", "probes.csv", "stats.json", "manifest.json", "lightmaps"});
+    CHECK(filesIn(out / "lightmaps") == std::set<std::string>{"lamp_0.exr"});
     // Nothing else beside OUTDIR: the staging directory is gone.
     CHECK(filesIn(tmp.path) == std::set<std::string>{"lamp.mtl", "lamp.obj", "out", "probes.txt"});
     // Quiet: the one-line summary and nothing else.
@@ -119,7 +121,7 @@ TEST_CASE("bake writes glb, ply, probes.csv and stats.json; probes match the clo
 
     const minijson::Value stats = minijson::parse(readBytes(out / "stats.json"));
     for (const char* key : {"seconds", "elements", "links", "shafts", "occluded_links", "rays", "iterations",
-                            "peak_rss_mb", "threads", "error_threshold", "min_area", "tolerance", "max_iterations"})
+                            "peak_rss_mb", "threads", "error_threshold", "local_error_threshold", "min_area", "tolerance", "max_iterations"})
         CHECK_MESSAGE(stats[key].type == minijson::Value::Type::Number, key);
     CHECK(stats["visibility"].str() == "exact");
     CHECK(stats["quality"].str() == "medium");
@@ -136,7 +138,8 @@ TEST_CASE("bake without -o writes into baked/<scene name>/ under the working dir
     writeLampScene(tmp.path);
     const std::string command = "cd " + quote(tmp.path) + " && '" + RADBAKE_EXE + "' bake lamp.obj --quality draft -q >/dev/null";
     CHECK(std::system(command.c_str()) == 0);
-    CHECK(filesIn(tmp.path / "baked" / "lamp") == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json"});
+    CHECK(filesIn(tmp.path / "baked" / "lamp") ==
+          std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "manifest.json", "lightmaps"});
     const minijson::Value stats = minijson::parse(readBytes(tmp.path / "baked" / "lamp" / "stats.json"));
     CHECK(stats["quality"].str() == "draft");
 }
@@ -159,8 +162,9 @@ TEST_CASE("--help shows every knob with its default") {
     const RunResult run = runRadbake("bake --help");
     CHECK(run.exit_code == 0);
     for (const char* option : {"--quality", "--visibility", "--threads", "--probes", "--unit-scale", "--emission-scale",
-                               "--error-threshold", "--min-area", "--tolerance", "--max-iterations", "--strict",
-                               "--quiet", "baked/<scene name>/"})
+                               "--error-threshold", "--local-error-threshold", "--min-area", "--tolerance", "--max-iterations", "--strict",
+                               "--quiet", "baked/<scene name>/", "--no-lightmaps", "--texel-density", "--atlas-size",
+                               "--padding", "--exr-float", "--preview"})
         CHECK_MESSAGE(run.output.find(option) != std::string::npos, option);
     CHECK(run.output.find("default: from --quality (draft ") != std::string::npos);
 }
@@ -209,7 +213,7 @@ TEST_CASE("outputs are byte-identical with 1 and 2 threads") {
     INFO(one.output, two.output);
     REQUIRE(one.exit_code == 0);
     REQUIRE(two.exit_code == 0);
-    for (const char* name : {"box.glb", "box.ply", "probes.csv"}) {
+    for (const char* name : {"box.glb", "box.ply", "probes.csv", "lightmaps/box_0.exr"}) {
         const std::string a = readBytes(tmp.path / "t1" / name);
         CHECK_MESSAGE(!a.empty(), name);
         CHECK_MESSAGE(a == readBytes(tmp.path / "t2" / name), name);
@@ -238,7 +242,7 @@ TEST_CASE("the shipped Cornell Box bakes byte-identically with 1 and 2 threads")
     INFO(one.output, two.output);
     REQUIRE(one.exit_code == 0);
     REQUIRE(two.exit_code == 0);
-    for (const char* name : {"cornell_box.glb", "cornell_box.ply", "probes.csv"}) {
+    for (const char* name : {"cornell_box.glb", "cornell_box.ply", "probes.csv", "lightmaps/cornell_box_0.exr"}) {
         const std::string a = readBytes(tmp.path / "t1" / name);
         CHECK_MESSAGE(a.size() > 30, name);
         CHECK_MESSAGE(a == readBytes(tmp.path / "t2" / name), name);

@@ -3,9 +3,11 @@
 #include <doctest/doctest.h>
 
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "cli_support.h"
+#include "export/exr_io.h"
 
 using namespace clitest;
 
@@ -44,10 +46,12 @@ TEST_CASE("compare: two bakes of one scene agree; one changed vertex or probe is
     CHECK(same.output.find("lamp.ply") != std::string::npos);
     CHECK(runRadbake("compare --quiet " + quote(tmp.path / "a") + " " + quote(tmp.path / "b")).output.empty());
 
-    // Vertex 5 (floor, second vertex) red: the PLY body holds 9 floats per vertex, red is the 7th.
+    // Vertex 5 (floor, second vertex) red: with lightmaps a PLY vertex is 9 floats (position,
+    // normal, colour), u1 v1 and a uchar atlas index: 45 bytes; red is the 7th float.
     std::string ply = readBytes(tmp.path / "b" / "lamp.ply");
+    REQUIRE(ply.find("property float u1") != std::string::npos);
     const size_t body = ply.find("end_header\n") + std::strlen("end_header\n");
-    const size_t at = body + 5 * 36 + 24;
+    const size_t at = body + 5 * 45 + 24;
     float red;
     std::memcpy(&red, ply.data() + at, 4);
     red = red * 1.5f + 0.01f;
@@ -75,6 +79,20 @@ TEST_CASE("compare: two bakes of one scene agree; one changed vertex or probe is
     CHECK(probe.exit_code == 1);
     CHECK(probe.output.find("DIFFERS probes.csv: probe 1 r is") != std::string::npos);
     CHECK(probe.output.find(" vs 1000 ") != std::string::npos);
+
+    // One texel of the lightmap, in a copy of A: named with its place, exit 1.
+    fs::copy(tmp.path / "a", tmp.path / "d", fs::copy_options::recursive);
+    radbake::Diagnostics diagnostics;
+    std::optional<radbake::RgbImage> atlas = radbake::readExr(tmp.path / "d" / "lightmaps" / "lamp_0.exr", diagnostics);
+    REQUIRE(atlas);
+    const int x = atlas->width / 2, y = atlas->height / 2;
+    atlas->rgb[3 * (static_cast<size_t>(y) * atlas->width + x) + 1] += 0.25f;
+    REQUIRE(radbake::writeExr(tmp.path / "d" / "lightmaps" / "lamp_0.exr", *atlas, {}, diagnostics));
+    const RunResult texel = runRadbake("compare " + quote(tmp.path / "a") + " " + quote(tmp.path / "d"));
+    INFO(texel.output);
+    CHECK(texel.exit_code == 1);
+    CHECK(texel.output.find("DIFFERS lightmaps/lamp_0.exr: texel (" + std::to_string(x) + ", " + std::to_string(y) +
+                            ") G") != std::string::npos);
 
     fs::remove(tmp.path / "b" / "lamp.glb");
     const RunResult missing = runRadbake("compare " + quote(tmp.path / "a") + " " + quote(tmp.path / "b"));

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -60,8 +61,30 @@ struct BakeFiles {
     std::vector<Probe> probes;
     std::vector<DVec3> irradiance;
     RgbImage image;
+    LightmapFiles lightmaps;
+    bool with_lightmaps = false;
 
     BakeFiles() {
+        // Mesh a in one chart on atlas 1; mesh b's two triangles in charts on atlases 0 and 1.
+        lightmaps.atlas_files = {"lightmaps/room_0.exr", "lightmaps/room_1.exr"};
+        const auto chart = [](LightmapMesh& out, const Mesh& mesh, uint32_t t, int atlas, Vec2 uv0) {
+            const uint32_t base = static_cast<uint32_t>(out.positions.size());
+            for (int k = 0; k < 3; ++k) {
+                out.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
+                out.uv.push_back(uv0 + Vec2(k == 1 ? 0.25f : 0.0f, k == 2 ? 0.25f : 0.0f));
+                out.atlas.push_back(atlas);
+                out.source_corners.push_back(mesh.triangles[t]);
+                Vec3 w(0.0f);
+                w[k] = 1.0f;
+                out.barycentric.push_back(w);
+            }
+            out.triangles.push_back({base, base + 1, base + 2});
+            out.source_triangle.push_back(t);
+        };
+        lightmaps.meshes.resize(2);
+        chart(lightmaps.meshes[0], scene.meshes[0], 0, 1, {0.5f, 0.5f});
+        chart(lightmaps.meshes[1], scene.meshes[1], 0, 0, {0.0f, 0.0f});
+        chart(lightmaps.meshes[1], scene.meshes[1], 1, 1, {0.0f, 0.5f});
         bake.values = {{{0.1f, 0.2f, 0.3f}, {1.0f, 2.0f, 3.0f}, {0.0f, 0.5f, 0.25f}},
                        {{4.0f, 4.5f, 5.0f}, {0.7f, 0.8f, 0.9f}, {1.5f, 1.25f, 1.125f}, {2.0f, 0.0f, 0.0f}}};
         probes = {Probe{{0, 0, 0}, {0, 0, 1}, {}}, Probe{{1, 2, 3}, {0, 1, 0}, {}}};
@@ -74,8 +97,14 @@ struct BakeFiles {
     void write(const fs::path& dir) const {
         Diagnostics diagnostics;
         fs::create_directories(dir / "lightmaps");
-        REQUIRE(writeGlb(dir / "room.glb", scene, bake, GltfOptions{}, diagnostics));
-        REQUIRE(writePly(dir / "room.ply", scene, bake, PlyOptions{}, diagnostics));
+        GltfOptions glb_options;
+        PlyOptions ply_options;
+        if (with_lightmaps) {
+            glb_options.lightmaps = &lightmaps;
+            ply_options.lightmaps = &lightmaps;
+        }
+        REQUIRE(writeGlb(dir / "room.glb", scene, bake, glb_options, diagnostics));
+        REQUIRE(writePly(dir / "room.ply", scene, bake, ply_options, diagnostics));
         REQUIRE(writeProbesCsv(dir / "probes.csv", probes, irradiance, diagnostics));
         REQUIRE(writeExr(dir / "lightmaps" / "room_0.exr", image, ExrWriteOptions{}, diagnostics));
         std::ofstream(dir / "stats.json") << "{\"ignored\": true}\n";
@@ -252,4 +281,107 @@ TEST_CASE("different layouts, missing or extra files and mismatched kinds are no
         REQUIRE(garbage.files.size() == 1);
         CHECK(garbage.files[0].problem.find((tmp.path / "g" / "room.glb").string()) == 0);
     }
+}
+
+TEST_CASE("lightmap layouts: glb primitives per atlas, TEXCOORD_1 and u1 v1 must match exactly") {
+    CompareTempDir tmp;
+    BakeFiles files;
+    files.with_lightmaps = true;
+    files.write(tmp.path / "a");
+
+    SUBCASE("identical copies pass, per primitive") {
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 0);
+        CHECK(fileNamed(result, "room.glb").samples == 9);  // 3 + 3 + 3 lightmap vertices
+        CHECK(fileNamed(result, "room.ply").samples == 9);
+    }
+    SUBCASE("a COLOR_0 change is named by mesh and primitive") {
+        files.bake.values[1][3].y = 0.5f;  // mesh b vertex 3: only in triangle 1, atlas 1, primitive 1
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 1);
+        const ChannelDifference* glb = failingChannel(fileNamed(result, "room.glb"));
+        REQUIRE(glb);
+        CHECK(glb->name == "G");
+        CHECK(glb->worst_place == "mesh 'b' primitive 1 vertex 2");
+        CHECK(glb->worst_a == 0.0);
+        CHECK(glb->worst_b == 0.5);
+        const ChannelDifference* ply = failingChannel(fileNamed(result, "room.ply"));
+        REQUIRE(ply);
+        CHECK(ply->worst_place == "vertex 8");
+    }
+    SUBCASE("different lightmap UVs make the files not comparable") {
+        files.lightmaps.meshes[1].uv[4].x = 0.3f;  // mesh b, chart on atlas 1, its second vertex
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 2);
+        CHECK(fileNamed(result, "room.glb").problem ==
+              "TEXCOORD_1 of mesh 'b' primitive 1 differs at vertex 1: (0.25, 0.5) vs (0.300000012, 0.5) (must match exactly)");
+        CHECK(fileNamed(result, "room.ply").problem ==
+              "u1 v1 differs at vertex 7: (0.25, 0.5) vs (0.300000012, 0.5) (must match exactly)");
+        CHECK(fileNamed(result, "lightmaps/room_0.exr").comparable);
+    }
+    SUBCASE("a different atlas, or lightmaps on one side only, are not comparable") {
+        files.lightmaps.atlas_files[1] = "lightmaps/room_9.exr";
+        files.write(tmp.path / "b");
+        CompareResult result = comparePaths(tmp.path / "a" / "room.glb", tmp.path / "b" / "room.glb", CompareOptions{});
+        CHECK(result.exitCode() == 2);
+        CHECK(result.files[0].problem ==
+              "different layouts (mesh 'a': 3 vertices, lightmap lightmaps/room_1.exr, TEXCOORD_1 vs mesh 'a': 3 "
+              "vertices, lightmap lightmaps/room_9.exr, TEXCOORD_1)");
+
+        files.with_lightmaps = false;
+        files.write(tmp.path / "c");
+        result = comparePaths(tmp.path / "a" / "room.ply", tmp.path / "c" / "room.ply", CompareOptions{});
+        CHECK(result.exitCode() == 2);
+        CHECK(result.files[0].problem == "different layouts (9 vertices, u1 v1, lightmap vs 7 vertices)");
+    }
+    SUBCASE("the lightmap index of a PLY vertex must match") {
+        files.write(tmp.path / "b");
+        // Flip the atlas byte of vertex 0 (the last byte of the first 45-byte vertex record).
+        std::fstream ply(tmp.path / "b" / "room.ply", std::ios::in | std::ios::out | std::ios::binary);
+        std::string text((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+        const size_t body = text.find("end_header\n") + 11;
+        REQUIRE(text[body + 44] == 1);
+        ply.seekp(static_cast<std::streamoff>(body + 44));
+        ply.put(0);
+        ply.close();
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 2);
+        CHECK(fileNamed(result, "room.ply").problem == "lightmap differs at vertex 0: 1 vs 0 (must match exactly)");
+    }
+}
+
+TEST_CASE("compare recurses into lightmaps/ and ignores manifest.json and PNG previews") {
+    CompareTempDir tmp;
+    BakeFiles files;
+    files.write(tmp.path / "a");
+    files.write(tmp.path / "b");
+    Diagnostics diagnostics;
+    RgbImage second = files.image;
+    REQUIRE(writeExr(tmp.path / "a" / "lightmaps" / "room_1.exr", second, ExrWriteOptions{}, diagnostics));
+    second.rgb[5] += 1.0f;  // texel (1, 0), blue
+    REQUIRE(writeExr(tmp.path / "b" / "lightmaps" / "room_1.exr", second, ExrWriteOptions{}, diagnostics));
+    std::ofstream(tmp.path / "a" / "manifest.json") << "{\"files\": []}\n";
+    std::ofstream(tmp.path / "b" / "manifest.json") << "{\"files\": [\"different\"]}\n";
+    std::ofstream(tmp.path / "a" / "lightmaps" / "room_0.png") << "only in a";
+    std::ofstream(tmp.path / "b" / "preview.png") << "only in b";
+
+    const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+    CHECK(result.problems.empty());
+    REQUIRE(result.files.size() == 5);
+    CHECK(result.files[0].file == "lightmaps/room_0.exr");
+    CHECK(result.files[1].file == "lightmaps/room_1.exr");
+    CHECK(result.exitCode() == 1);
+    const ChannelDifference* channel = failingChannel(fileNamed(result, "lightmaps/room_1.exr"));
+    REQUIRE(channel);
+    CHECK(channel->worst_place == "texel (1, 0)");
+    CHECK(fileNamed(result, "lightmaps/room_0.exr").within);
+
+    fs::remove(tmp.path / "b" / "lightmaps" / "room_1.exr");  // fewer atlases in B
+    const CompareResult fewer = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+    CHECK(fewer.exitCode() == 2);
+    REQUIRE(fewer.problems.size() == 1);
+    CHECK(fewer.problems[0] == "lightmaps/room_1.exr is missing from " + (tmp.path / "b").string());
 }

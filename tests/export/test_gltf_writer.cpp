@@ -2,11 +2,13 @@
 // attribute decoded from the BIN chunk compared with what went in (exact: floats are copied).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
 
 #include "export/gltf_writer.h"
+#include "export/hash.h"
 #include "mini_json.h"
 
 using namespace radbake;
@@ -239,4 +241,186 @@ TEST_CASE("glb writer replaces non-finite baked values by 0 with one warning") {
     CHECK(colors[3 * 1 + 0] == 0.0f);  // the whole vertex value is zeroed
     CHECK(colors[3 * 1 + 1] == 0.0f);
     CHECK(colors[3 * 2 + 0] == 4.0f);
+}
+
+TEST_CASE("without lightmaps the glb is byte-identical to the writer before lightmaps") {
+    Diagnostics diagnostics;
+    // SHA-256 of the literal scene's glb as written before GltfOptions::lightmaps existed.
+    CHECK(sha256Hex(encodeGlb(literalScene(), literalBake(), {"radbake test"}, diagnostics)) == "f9844034300380cf126b6245431fc0754090059f9c90a5855a55c572b81cec7e");
+}
+
+namespace {
+
+// Lightmap meshes for literalScene(): the floor's two triangles in two charts on two
+// atlases (the second triangle cut at the midpoint of its edge 0-1), the lamp in one chart
+// fanned around its centroid, the empty mesh without charts.
+LightmapFiles literalLightmaps() {
+    LightmapFiles files;
+    files.atlas_files = {"lightmaps/literal_0.exr", "lightmaps/literal_1.exr"};
+    LightmapMesh floor;
+    const Scene scene = literalScene();
+    const std::vector<Vec3>& p = scene.meshes[0].positions;
+    // Chart on atlas 1: source triangle 0 = {0, 3, 2}.
+    floor.positions = {p[0], p[3], p[2]};
+    floor.uv = {{0.5f, 0.0f}, {0.5f, 0.25f}, {1.0f, 0.25f}};
+    floor.atlas = {1, 1, 1};
+    floor.source_corners = {{0, 3, 2}, {0, 3, 2}, {0, 3, 2}};
+    floor.barycentric = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    floor.triangles = {{0, 1, 2}};
+    floor.source_triangle = {0};
+    // Chart on atlas 0: source triangle 1 = {0, 2, 1}, cut at m = midpoint of 0-1.
+    const uint32_t b = 3;
+    floor.positions.insert(floor.positions.end(), {p[0], 0.5f * (p[0] + p[1]), p[1], p[2]});
+    floor.uv.insert(floor.uv.end(), {{0.0f, 0.0f}, {0.125f, 0.0f}, {0.25f, 0.0f}, {0.25f, 0.125f}});
+    floor.atlas.insert(floor.atlas.end(), {0, 0, 0, 0});
+    floor.source_corners.insert(floor.source_corners.end(), {{0, 2, 1}, {0, 2, 1}, {0, 2, 1}, {0, 2, 1}});
+    floor.barycentric.insert(floor.barycentric.end(), {{1, 0, 0}, {0.5f, 0, 0.5f}, {0, 0, 1}, {0, 1, 0}});
+    floor.triangles.insert(floor.triangles.end(), {{b + 0, b + 3, b + 1}, {b + 1, b + 3, b + 2}});
+    floor.source_triangle.insert(floor.source_triangle.end(), {1, 1});
+
+    LightmapMesh lamp;
+    const std::vector<Vec3>& q = scene.meshes[1].positions;
+    lamp.positions = {(q[0] + q[1] + q[2]) / 3.0f, q[0], q[1], q[2]};
+    lamp.uv = {{0.75f, 0.75f}, {0.5f, 0.5f}, {1.0f, 0.5f}, {0.75f, 1.0f}};
+    lamp.atlas = {0, 0, 0, 0};
+    lamp.source_corners = {{0, 1, 2}, {0, 1, 2}, {0, 1, 2}, {0, 1, 2}};
+    lamp.barycentric = {Vec3(1.0f / 3.0f), {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    lamp.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
+    lamp.source_triangle = {0, 0, 0};
+    files.meshes = {floor, lamp, LightmapMesh{}};
+    return files;
+}
+
+std::vector<std::string> strings(const minijson::Value& list) {
+    std::vector<std::string> out;
+    for (const minijson::Value& item : list.array) out.push_back(item.str());
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("glb with lightmaps: one primitive per atlas, TEXCOORD_1, interpolated COLOR_0, extras") {
+    const Scene scene = literalScene();
+    const VertexBake bake = literalBake();
+    const LightmapFiles lightmaps = literalLightmaps();
+    GltfOptions options;
+    options.lightmaps = &lightmaps;
+    Diagnostics diagnostics;
+    const Glb glb = splitGlb(encodeGlb(scene, bake, options, diagnostics));
+    CHECK(diagnostics.all().empty());
+    const minijson::Value& json = glb.json;
+    CHECK(strings(json["asset"]["extras"]["radbake_lightmaps"]) == lightmaps.atlas_files);
+    REQUIRE(json["meshes"].size() == 2);
+
+    // Per scene mesh: the atlases its primitives should cover, in order.
+    const std::vector<std::vector<int>> expected_atlases = {{0, 1}, {0}};
+    for (size_t m = 0; m < 2; ++m) {
+        CAPTURE(m);
+        const minijson::Value& mesh_json = json["meshes"][m];
+        const LightmapMesh& lm = lightmaps.meshes[m];
+        std::vector<std::string> expected_files;
+        for (int atlas : expected_atlases[m]) expected_files.push_back(lightmaps.atlas_files[atlas]);
+        CHECK(strings(mesh_json["extras"]["radbake_lightmaps"]) == expected_files);
+        REQUIRE(mesh_json["primitives"].size() == expected_atlases[m].size());
+
+        for (size_t p = 0; p < expected_atlases[m].size(); ++p) {
+            CAPTURE(p);
+            const int atlas = expected_atlases[m][p];
+            const minijson::Value& primitive = mesh_json["primitives"][p];
+            CHECK(primitive["extras"]["radbake_lightmap"].str() == lightmaps.atlas_files[atlas]);
+            CHECK(primitive["extras"]["radbake_lightmap_index"].integer() == static_cast<size_t>(atlas));
+            CHECK(primitive["material"].integer() == scene.meshes[m].material);
+            const minijson::Value& attributes = primitive["attributes"];
+            CHECK(attributes["TEXCOORD_0"].integer() == attributes["TEXCOORD_1"].integer());
+
+            // Brute force: the lightmap triangles on this atlas, in order, against the decoded ones.
+            std::vector<uint32_t> expected_corners;
+            for (const UVec3& t : lm.triangles)
+                if (lm.atlas[t.x] == atlas) expected_corners.insert(expected_corners.end(), {t.x, t.y, t.z});
+            const std::vector<uint32_t> indices = readAccessor<uint32_t>(glb, primitive["indices"].integer(), 1);
+            REQUIRE(indices.size() == expected_corners.size());
+            std::vector<uint32_t> distinct = expected_corners;
+            std::sort(distinct.begin(), distinct.end());
+            distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+
+            const size_t position_index = attributes["POSITION"].integer();
+            const minijson::Value& position_accessor = json["accessors"][position_index];
+            CHECK(position_accessor["count"].integer() == distinct.size());  // only this atlas's vertices
+            const std::vector<float> positions = readAccessor<float>(glb, position_index, 3);
+            const std::vector<float> normals = readAccessor<float>(glb, attributes["NORMAL"].integer(), 3);
+            const std::vector<float> colors = readAccessor<float>(glb, attributes["COLOR_0"].integer(), 3);
+            const std::vector<float> uvs = readAccessor<float>(glb, attributes["TEXCOORD_1"].integer(), 2);
+            REQUIRE(uvs.size() == 2 * distinct.size());
+            for (size_t i = 0; i < indices.size(); ++i) {
+                const uint32_t out = indices[i], in = expected_corners[i];
+                REQUIRE(out < distinct.size());
+                for (int k = 0; k < 3; ++k) {
+                    CHECK(positions[3 * out + k] == lm.positions[in][k]);
+                    const float expected_color = interpolateSource(lm, in, bake.values[m])[k];
+                    CHECK(colors[3 * out + k] == doctest::Approx(expected_color).epsilon(1e-6));
+                }
+                CHECK(uvs[2 * out] == lm.uv[in].x);
+                CHECK(uvs[2 * out + 1] == lm.uv[in].y);
+                // Floor: no normals given, so the face normal (+Y); lamp: its own normals (-Y).
+                CHECK(normals[3 * out + 1] == (m == 0 ? 1.0f : -1.0f));
+            }
+            Vec3 lo(1e30f), hi(-1e30f);
+            for (uint32_t v : distinct) {
+                lo = glm::min(lo, lm.positions[v]);
+                hi = glm::max(hi, lm.positions[v]);
+            }
+            for (int k = 0; k < 3; ++k) {
+                CHECK(position_accessor["min"][k].num() == doctest::Approx(lo[k]).epsilon(1e-8));
+                CHECK(position_accessor["max"][k].num() == doctest::Approx(hi[k]).epsilon(1e-8));
+            }
+            const minijson::Value& uv_accessor = json["accessors"][attributes["TEXCOORD_1"].integer()];
+            CHECK(uv_accessor["type"].str() == "VEC2");
+            for (int k = 0; k < 2; ++k) {
+                CHECK(uv_accessor["min"][k].num() >= 0.0);
+                CHECK(uv_accessor["max"][k].num() <= 1.0);
+            }
+        }
+    }
+    // Closed-form spot checks: the floor's cut vertex and the lamp's centroid.
+    const std::vector<float> floor_colors =
+        readAccessor<float>(glb, json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+    CHECK(floor_colors[3 * 2 + 0] == doctest::Approx(0.8));  // (0.1 + 1.5) / 2; third new vertex is m
+    CHECK(floor_colors[3 * 2 + 2] == doctest::Approx(1.65));
+    const std::vector<float> lamp_colors =
+        readAccessor<float>(glb, json["meshes"][1]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+    CHECK(lamp_colors[0] == doctest::Approx(10.0));
+    CHECK(lamp_colors[1] == doctest::Approx(11.0));
+    CHECK(lamp_colors[2] == doctest::Approx(12.0));
+}
+
+TEST_CASE("glb with lightmaps writes a mesh without charts as before, and refuses inconsistent lightmaps") {
+    const Scene scene = literalScene();
+    LightmapFiles lightmaps = literalLightmaps();
+    lightmaps.meshes[1] = LightmapMesh{};  // the lamp has no charts
+    GltfOptions options;
+    options.lightmaps = &lightmaps;
+    Diagnostics diagnostics;
+    const Glb with = splitGlb(encodeGlb(scene, literalBake(), options, diagnostics));
+    const Glb without = splitGlb(encodeGlb(scene, literalBake(), {}, diagnostics));
+    const minijson::Value& lamp = with.json["meshes"][1];
+    CHECK_FALSE(lamp.has("extras"));
+    REQUIRE(lamp["primitives"].size() == 1);
+    CHECK_FALSE(lamp["primitives"][0]["attributes"].has("TEXCOORD_1"));
+    CHECK(lamp["primitives"][0]["attributes"].size() == 3);
+    const std::vector<float> colors = readAccessor<float>(with, lamp["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+    const std::vector<float> colors_before =
+        readAccessor<float>(without, without.json["meshes"][1]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+    CHECK(colors == colors_before);
+    CHECK(diagnostics.all().empty());
+
+    lightmaps = literalLightmaps();
+    lightmaps.meshes[0].atlas[4] = 2;  // no such atlas file
+    CHECK(encodeGlb(scene, literalBake(), options, diagnostics).empty());
+    REQUIRE(diagnostics.errorCount() == 1);
+    CHECK(diagnostics.all()[0].message == "internal: lightmap mesh of 'floor' is inconsistent: an atlas index has no file");
+    lightmaps = literalLightmaps();
+    lightmaps.meshes.pop_back();
+    CHECK(encodeGlb(scene, literalBake(), options, diagnostics).empty());
+    REQUIRE(diagnostics.errorCount() == 2);
+    CHECK(diagnostics.all()[1].message == "internal: lightmap meshes for 2 meshes, scene has 3");
 }

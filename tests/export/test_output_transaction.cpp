@@ -2,12 +2,17 @@
 // (new or existing) exactly as it was and no staging directory behind.
 #include <doctest/doctest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "export/output_transaction.h"
 
@@ -144,4 +149,184 @@ TEST_CASE("OUTDIR that is a file is refused before anything is written") {
     REQUIRE(diagnostics.errorCount() == 1);
     CHECK(diagnostics.all()[0].message == "output path exists and is not a directory");
     CHECK(listing(tmp.path).size() == 1);
+}
+
+TEST_CASE("a first bake with lightmaps creates OUTDIR with its lightmaps/ sub-directory") {
+    TempDir tmp;
+    const fs::path out = tmp.path / "room";
+    Diagnostics diagnostics;
+    {
+        OutputTransaction transaction(out);
+        REQUIRE(transaction.begin(diagnostics));
+        transaction.retireUnstagedIn("lightmaps");  // nothing there yet: fine
+        CHECK(writeFileBytes(transaction.stage("room.glb"), "glb", diagnostics));
+        CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "exr0", diagnostics));
+        CHECK(writeFileBytes(transaction.stage("lightmaps/room_1.exr"), "exr1", diagnostics));
+        transaction.stage("room.glb");  // staged twice: listed once
+        CHECK(transaction.staged() ==
+              std::vector<std::string>{"room.glb", "lightmaps/room_0.exr", "lightmaps/room_1.exr"});
+        REQUIRE(transaction.commit(diagnostics));
+    }
+    CHECK(diagnostics.all().empty());
+    const std::map<std::string, std::string> expected = {{"room/", ""},
+                                                         {"room/room.glb", "glb"},
+                                                         {"room/lightmaps/", ""},
+                                                         {"room/lightmaps/room_0.exr", "exr0"},
+                                                         {"room/lightmaps/room_1.exr", "exr1"}};
+    CHECK(listing(tmp.path) == expected);
+}
+
+TEST_CASE("a re-bake with fewer atlases leaves no stale lightmaps; one without lightmaps removes the directory") {
+    TempDir tmp;
+    const fs::path out = tmp.path / "room";
+    fs::create_directories(out / "lightmaps" / "user");
+    put(out / "room.glb", "old glb");
+    put(out / "notes.txt", "the user's own file");
+    for (int k = 0; k < 3; ++k) put(out / "lightmaps" / ("room_" + std::to_string(k) + ".exr"), "old exr");
+    put(out / "lightmaps" / "user" / "keep.txt", "inside a sub-directory: not ours");
+    Diagnostics diagnostics;
+    {
+        OutputTransaction transaction(out);
+        REQUIRE(transaction.begin(diagnostics));
+        transaction.retireUnstagedIn("lightmaps");
+        CHECK(writeFileBytes(transaction.stage("room.glb"), "new glb", diagnostics));
+        CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "new exr", diagnostics));
+        REQUIRE(transaction.commit(diagnostics));
+    }
+    CHECK(diagnostics.all().empty());
+    std::map<std::string, std::string> expected = {{"room/", ""},
+                                                   {"room/room.glb", "new glb"},
+                                                   {"room/notes.txt", "the user's own file"},
+                                                   {"room/lightmaps/", ""},
+                                                   {"room/lightmaps/room_0.exr", "new exr"},
+                                                   {"room/lightmaps/user/", ""},
+                                                   {"room/lightmaps/user/keep.txt", "inside a sub-directory: not ours"}};
+    CHECK(listing(tmp.path) == expected);
+
+    // --no-lightmaps: nothing staged under lightmaps/, so the atlas goes; the directory stays
+    // only while it holds something else.
+    fs::remove_all(out / "lightmaps" / "user");
+    {
+        OutputTransaction transaction(out);
+        REQUIRE(transaction.begin(diagnostics));
+        transaction.retireUnstagedIn("lightmaps");
+        CHECK(writeFileBytes(transaction.stage("room.glb"), "third glb", diagnostics));
+        REQUIRE(transaction.commit(diagnostics));
+    }
+    CHECK(diagnostics.all().empty());
+    expected = {{"room/", ""}, {"room/room.glb", "third glb"}, {"room/notes.txt", "the user's own file"}};
+    CHECK(listing(tmp.path) == expected);
+}
+
+TEST_CASE("an abandoned bake with lightmaps leaves an existing OUTDIR untouched and no staging behind") {
+    TempDir tmp;
+    const fs::path out = tmp.path / "room";
+    fs::create_directories(out / "lightmaps");
+    put(out / "room.glb", "old glb");
+    put(out / "lightmaps" / "room_0.exr", "old exr 0");
+    put(out / "lightmaps" / "room_1.exr", "old exr 1");
+    const auto before = listing(tmp.path);
+    Diagnostics diagnostics;
+    {
+        OutputTransaction transaction(out);
+        REQUIRE(transaction.begin(diagnostics));
+        transaction.retireUnstagedIn("lightmaps");
+        CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "new exr", diagnostics));
+        CHECK(fs::is_regular_file(transaction.stagingDir() / "lightmaps" / "room_0.exr"));
+        // The bake fails before commit.
+    }
+    CHECK(listing(tmp.path) == before);
+
+    // A new OUTDIR: abandoning leaves nothing at all.
+    const fs::path fresh = tmp.path / "fresh" / "room";
+    {
+        OutputTransaction transaction(fresh);
+        REQUIRE(transaction.begin(diagnostics));
+        CHECK(writeFileBytes(transaction.stage("lightmaps/a/room_0.exr"), "new exr", diagnostics));
+    }
+    CHECK(listing(tmp.path) == before);
+    CHECK(diagnostics.all().empty());
+}
+
+TEST_CASE("a commit failing part-way restores replaced and retired files in sub-directories") {
+    TempDir tmp;
+    const fs::path out = tmp.path / "room";
+    fs::create_directories(out / "lightmaps");
+    put(out / "room.glb", "old glb");
+    put(out / "lightmaps" / "room_0.exr", "old exr 0");
+    put(out / "lightmaps" / "room_2.exr", "old exr 2");
+    put(out / "extra", "a file where the last output needs a directory");
+    const auto before = listing(tmp.path);
+    Diagnostics diagnostics;
+    {
+        OutputTransaction transaction(out);
+        REQUIRE(transaction.begin(diagnostics));
+        transaction.retireUnstagedIn("lightmaps");
+        CHECK(writeFileBytes(transaction.stage("room.glb"), "new glb", diagnostics));
+        CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "new exr 0", diagnostics));
+        CHECK(writeFileBytes(transaction.stage("lightmaps/new/room_1.exr"), "in a new directory", diagnostics));
+        CHECK(writeFileBytes(transaction.stage("extra/room_1.exr"), "cannot land", diagnostics));
+        CHECK_FALSE(transaction.commit(diagnostics));
+    }
+    REQUIRE(diagnostics.errorCount() == 1);
+    CHECK(diagnostics.all()[0].location.file == (out / "extra").string());
+    CHECK(diagnostics.all()[0].message == "cannot create output directory: a file is in the way");
+    CHECK(listing(tmp.path) == before);  // room_2 back, room_0 and the glb old again, lightmaps/new/ gone
+}
+
+TEST_CASE("output names that could leave OUTDIR are refused at commit") {
+    for (const char* bad : {"../escape.glb", "/tmp/abs.glb", "lightmaps/../../x.exr", "a//b.exr", "./a.glb", ""}) {
+        CAPTURE(bad);
+        TempDir tmp;
+        const fs::path out = tmp.path / "room";
+        Diagnostics diagnostics;
+        {
+            OutputTransaction transaction(out);
+            REQUIRE(transaction.begin(diagnostics));
+            const fs::path scratch = transaction.stage(bad);
+            CHECK(scratch.parent_path() == transaction.stagingDir());  // writing it harms nothing
+            CHECK(writeFileBytes(scratch, "x", diagnostics));
+            CHECK(transaction.staged().empty());
+            CHECK_FALSE(transaction.commit(diagnostics));
+        }
+        REQUIRE(diagnostics.errorCount() == 1);
+        CHECK(diagnostics.all()[0].message ==
+              "internal: output name '" + std::string(bad) + "' is not a relative path inside the output directory");
+        CHECK(listing(tmp.path).empty());
+        CHECK_FALSE(fs::exists(tmp.path.parent_path() / "escape.glb"));
+    }
+    Diagnostics diagnostics;
+    TempDir tmp;
+    OutputTransaction transaction(tmp.path / "room");
+    REQUIRE(transaction.begin(diagnostics));
+    transaction.retireUnstagedIn("..");  // would judge the files beside OUTDIR
+    CHECK_FALSE(transaction.commit(diagnostics));
+    CHECK(diagnostics.errorCount() == 1);
+}
+
+TEST_CASE("a bake killed by SIGTERM leaves no staging directory, even with files in sub-directories") {
+    TempDir tmp;
+    const fs::path out = tmp.path / "room";
+    fs::create_directory(out);
+    put(out / "room.glb", "old glb");
+    const auto before = listing(tmp.path);
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        // The child stages outputs in sub-directories and is killed before it commits.
+        cleanUpStagingOnSignals();
+        Diagnostics diagnostics;
+        OutputTransaction transaction(out);
+        if (!transaction.begin(diagnostics)) _exit(3);
+        writeFileBytes(transaction.stage("room.glb"), "new glb", diagnostics);
+        writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "exr", diagnostics);
+        writeFileBytes(transaction.stage("preview/deep/room_view.png"), "png", diagnostics);
+        ::raise(SIGTERM);
+        _exit(4);  // not reached: the handler re-raises with the default action
+    }
+    int status = 0;
+    REQUIRE(waitpid(child, &status, 0) == child);
+    CHECK(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == SIGTERM);
+    CHECK(listing(tmp.path) == before);
 }

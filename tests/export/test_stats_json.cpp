@@ -43,8 +43,34 @@ TEST_CASE("stats.json holds every figure and merges repeated phases") {
     CHECK(json["visibility"].str() == "obb");
     CHECK(json["quality"].str() == "high");
     CHECK(json["error_threshold"].num() == report.options.error_threshold);
+    CHECK(json["local_error_threshold"].num() == report.options.local_error_threshold);
     CHECK(json["min_area"].num() == report.options.min_element_area);
     CHECK(json["tolerance"].num() == report.options.iteration_tolerance);
     CHECK(json["max_iterations"].num() == report.options.max_iterations);
     CHECK(json["vertices"].num() == 7);
+}
+
+TEST_CASE("stats.json reports the lightmap stage only when it ran") {
+    BakeReport report;
+    CHECK_FALSE(minijson::parse(formatStatsJson(report))["lightmaps"].boolean);
+    CHECK_FALSE(minijson::parse(formatStatsJson(report)).has("occupancy"));
+    report.lightmaps.baked = true;
+    report.lightmaps.texels_per_unit = 16.0;
+    report.lightmaps.atlas_size = 1024;
+    report.lightmaps.padding = 2;
+    report.lightmaps.charts = 17;
+    report.lightmaps.atlases = 2;
+    report.lightmaps.atlas_texels = 5000;
+    report.lightmaps.covered_texels = 1234;
+    report.lightmaps.occupancy = 0.25;
+    const minijson::Value json = minijson::parse(formatStatsJson(report));
+    CHECK(json["lightmaps"].boolean);
+    CHECK(json["texel_density"].num() == 16.0);
+    CHECK(json["atlas_size"].num() == 1024);
+    CHECK(json["padding"].num() == 2);
+    CHECK(json["charts"].num() == 17);
+    CHECK(json["atlases"].num() == 2);
+    CHECK(json["atlas_texels"].num() == 5000);
+    CHECK(json["covered_texels"].num() == 1234);
+    CHECK(json["occupancy"].num() == 0.25);
 }

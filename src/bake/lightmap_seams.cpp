@@ -1,0 +1,443 @@
+// Chart edges and seams: sampling the chart boundaries, pairing seam edges, and the
+// least-squares fit of the texels under their bilinear lookups (conjugate gradient).
+#include "bake/lightmap_seams.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+#include <unordered_map>
+
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace radbake {
+namespace {
+
+// A clipped chart point whose barycentric weight for a corner is below this lies on the
+// opposite source edge: clipping puts points on cell lines exactly and interpolates along
+// edges with ~1e-15 relative rounding; the slack covers skinny triangles.
+constexpr double kOnEdge = 1e-7;
+// Faces closer than this (1 - cos) are coplanar: the charts' own coplanarity test.
+constexpr double kCoplanar = 1e-4;
+// Edge points per texel of edge length: a bilinear lookup along an edge is piecewise linear
+// between texel-centre crossings, so two points per texel pin every piece.
+constexpr double kSamplesPerTexel = 2.0;
+// Least-squares weights. Covered texels keep their evaluated value with weight 1; padding
+// texels are nearly free (a small pull keeps the system definite and the change minimal);
+// an edge lookup is pulled to the light there with weight 1 and a seam's two lookups to
+// each other with weight 100, so where both cannot hold exactly (per-face light changes
+// across a smooth edge; diagonal seams through partly covered texels) the seam wins. Where
+// the padding alone can satisfy the lookups (straight chart edges, cuts), the residual is
+// about kFree / weight of the padding's change: 1e-4 relative. (1000 was no better on the
+// Cornell box and needed twice the CG steps.)
+constexpr double kCoveredPrior = 1.0;
+constexpr double kFree = 1e-4;
+// A covered texel whose centre lies outside its chart's geometry (an edge crosses it between
+// its centre and the chart) mostly serves lookups at that edge: it bends more easily.
+constexpr double kPartialPrior = 1e-2;
+constexpr double kEdgeWeight = 1.0;
+constexpr double kSeamWeight = 100.0;
+// Conjugate gradient: stop when the residual falls below this fraction of the right-hand side.
+constexpr double kSolveTolerance = 1e-9;
+constexpr int kMaxIterations = 2000;
+
+struct BoundaryEdge {
+    uint32_t chart = 0;
+    uint32_t face = 0;
+    DVec2 p{0.0}, q{0.0};  // plane ends
+    DVec3 p_world{0.0}, q_world{0.0};
+    std::vector<std::pair<double, double>> seamed;  // parameter intervals that lie on a seam
+};
+
+DVec3 barycentricInPlane(const ChartFace& face, const DVec2& p) {
+    const DVec2 e1 = face.corner_plane[1] - face.corner_plane[0], e2 = face.corner_plane[2] - face.corner_plane[0];
+    const DVec2 d = p - face.corner_plane[0];
+    const double det = e1.x * e2.y - e1.y * e2.x;
+    if (det == 0.0) return DVec3(1.0, 0.0, 0.0);
+    const double b1 = (d.x * e2.y - d.y * e2.x) / det, b2 = (e1.x * d.y - e1.y * d.x) / det;
+    return DVec3(1.0 - b1 - b2, b1, b2);
+}
+
+int sampleCount(double length_texels) {
+    return std::max(2, static_cast<int>(std::ceil(kSamplesPerTexel * length_texels)) + 1);
+}
+
+EdgeSample edgeSample(const LightmapChart& chart, const BoundaryEdge& edge, double t) {
+    EdgeSample s;
+    s.chart = edge.chart;
+    s.texel = chart.atlasTexel(edge.p + (edge.q - edge.p) * t);
+    s.p_world = edge.p_world + (edge.q_world - edge.p_world) * t;
+    s.normal_world = chart.faces[edge.face].normal_world;
+    return s;
+}
+
+// Boundary edges of one chart: face polygon edges that no other face of the chart runs
+// back along (faces of one chart share bit-identical plane points).
+void chartBoundary(const LightmapChart& chart, uint32_t c, std::vector<BoundaryEdge>& out) {
+    std::set<std::array<double, 4>> directed;
+    for (const ChartFace& face : chart.faces)
+        for (size_t k = 0; k < face.p_plane.size(); ++k) {
+            const DVec2& a = face.p_plane[k];
+            const DVec2& b = face.p_plane[(k + 1) % face.p_plane.size()];
+            directed.insert({a.x, a.y, b.x, b.y});
+        }
+    for (uint32_t f = 0; f < chart.faces.size(); ++f) {
+        const ChartFace& face = chart.faces[f];
+        for (size_t k = 0; k < face.p_plane.size(); ++k) {
+            const DVec2& a = face.p_plane[k];
+            const DVec2& b = face.p_plane[(k + 1) % face.p_plane.size()];
+            if (a == b || directed.count({b.x, b.y, a.x, a.y})) continue;
+            out.push_back(BoundaryEdge{c, f, a, b, face.worldPoint(a), face.worldPoint(b), {}});
+        }
+    }
+}
+
+// Which line an edge lies on, for pairing: a source edge (welded ends) or a cut through one triangle.
+using EdgeKey = std::tuple<uint32_t, uint32_t, uint32_t, uint32_t>;  // mesh, kind, a, b
+
+EdgeKey edgeKey(const LightmapChart& chart, const BoundaryEdge& edge, const Scene& scene,
+                const std::vector<std::vector<uint32_t>>& welded) {
+    const ChartFace& face = chart.faces[edge.face];
+    const DVec3 bp = barycentricInPlane(face, edge.p), bq = barycentricInPlane(face, edge.q);
+    for (int k = 0; k < 3; ++k) {
+        if (std::fabs(bp[k]) > kOnEdge || std::fabs(bq[k]) > kOnEdge) continue;
+        const UVec3& tri = scene.meshes[chart.mesh].triangles[face.triangle];
+        uint32_t a = welded[chart.mesh][tri[(k + 1) % 3]], b = welded[chart.mesh][tri[(k + 2) % 3]];
+        if (a > b) std::swap(a, b);
+        return {chart.mesh, 0u, a, b};
+    }
+    return {chart.mesh, 1u, face.triangle, 0u};
+}
+
+bool sameSurface(const Scene& scene, const LightmapChart& a, const ChartFace& fa, const ChartFace& fb) {
+    if (fa.triangle == fb.triangle) return true;
+    const double cos_crease = std::cos(static_cast<double>(scene.meshes[a.mesh].crease_angle));
+    return glm::dot(fa.normal_world, fb.normal_world) >= std::min(cos_crease, 1.0 - kCoplanar);
+}
+
+// Pairs two boundary edges of different charts lying on one line; appends seam samples over
+// their overlap and records the overlap on both edges.
+void pairEdges(const LightmapLayout& layout, BoundaryEdge& e1, BoundaryEdge& e2, double tolerance,
+               std::vector<SeamSample>& seams) {
+    const LightmapChart& c1 = layout.charts[e1.chart];
+    const LightmapChart& c2 = layout.charts[e2.chart];
+    const DVec3 d = e1.q_world - e1.p_world;
+    const double length = glm::length(d);
+    if (!(length > tolerance)) return;
+    const DVec3 u = d / length;
+    const double s_p = glm::dot(e2.p_world - e1.p_world, u), s_q = glm::dot(e2.q_world - e1.p_world, u);
+    if (glm::length(e2.p_world - e1.p_world - s_p * u) > tolerance) return;
+    if (glm::length(e2.q_world - e1.p_world - s_q * u) > tolerance) return;
+    const double lo = std::max(0.0, std::min(s_p, s_q)), hi = std::min(length, std::max(s_p, s_q));
+    if (!(hi - lo > tolerance) || !(std::fabs(s_q - s_p) > tolerance)) return;
+    const int n = sampleCount((hi - lo) * std::max(c1.texels_per_metre, c2.texels_per_metre));
+    for (int k = 0; k < n; ++k) {
+        const double s = lo + (hi - lo) * k / (n - 1);
+        SeamSample seam;
+        seam.a = edgeSample(c1, e1, s / length);
+        seam.b = edgeSample(c2, e2, (s - s_p) / (s_q - s_p));
+        seam.b.p_world = seam.a.p_world;  // one point, seen from both faces
+        seams.push_back(seam);
+    }
+    e1.seamed.emplace_back(lo / length, hi / length);
+    const double t_lo = (lo - s_p) / (s_q - s_p), t_hi = (hi - s_p) / (s_q - s_p);
+    e2.seamed.emplace_back(std::min(t_lo, t_hi), std::max(t_lo, t_hi));
+}
+
+struct Tap {
+    uint32_t unknown = 0;
+    double weight = 0.0;
+};
+
+struct Row {
+    std::array<Tap, 8> taps{};
+    int count = 0;
+    double weight = 0.0;
+    DVec3 target{0.0};
+};
+
+struct Unknowns {
+    std::unordered_map<uint64_t, uint32_t> ids;
+    std::vector<std::pair<int, size_t>> texels;  // atlas, pixel
+    std::vector<uint32_t> charts;                // the chart whose lookup first read it
+
+    uint32_t id(int atlas, size_t pixel, uint32_t chart) {
+        const uint64_t key = (static_cast<uint64_t>(atlas) << 40) | pixel;
+        const auto [it, added] = ids.emplace(key, static_cast<uint32_t>(texels.size()));
+        if (added) {
+            texels.emplace_back(atlas, pixel);
+            charts.push_back(chart);
+        }
+        return it->second;
+    }
+};
+
+bool centreOnGeometry(const LightmapChart& chart, const LightmapImage& image, size_t pixel) {
+    const int x = static_cast<int>(pixel % image.width), y = static_cast<int>(pixel / image.width);
+    const DVec2 p = chart.min_plane + (DVec2(x - chart.x, y - chart.y) + 0.5) / chart.texels_per_metre;
+    for (const ChartFace& face : chart.faces) {
+        bool inside = true;
+        for (size_t k = 0; k < face.p_plane.size() && inside; ++k) {
+            const DVec2 e = face.p_plane[(k + 1) % face.p_plane.size()] - face.p_plane[k], d = p - face.p_plane[k];
+            inside = e.x * d.y - e.y * d.x >= 0.0;
+        }
+        if (inside) return true;
+    }
+    return false;
+}
+
+// The four bilinear taps of a lookup, clamped to the image like bilinearLookup.
+void addStencil(const LightmapImage& image, int atlas, uint32_t chart, const DVec2& texel, double sign, Unknowns& unknowns,
+                Row& row) {
+    const double x = texel.x - 0.5, y = texel.y - 0.5;
+    const double fx0 = std::floor(x), fy0 = std::floor(y);
+    const double fx = x - fx0, fy = y - fy0;
+    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            const int xi = std::clamp(x0 + dx, 0, image.width - 1), yi = std::clamp(y0 + dy, 0, image.height - 1);
+            const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
+            row.taps[row.count++] = Tap{unknowns.id(atlas, static_cast<size_t>(yi) * image.width + xi, chart), sign * w};
+        }
+}
+
+double relativeGap(const DVec3& a, const DVec3& b, double floor) {
+    double worst = 0.0;
+    for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, std::fabs(a[c] - b[c]) / std::max({std::fabs(a[c]), std::fabs(b[c]), floor}));
+    return worst;
+}
+
+// Preconditioned (Jacobi) conjugate gradient on (P + sum w c c^T) delta = rhs, matrix-free.
+int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& rhs,
+                 std::vector<double>& delta) {
+    const size_t n = prior.size();
+    std::vector<double> diagonal = prior;
+    for (const Row& row : rows)
+        for (int k = 0; k < row.count; ++k) diagonal[row.taps[k].unknown] += row.weight * row.taps[k].weight * row.taps[k].weight;
+    const auto apply = [&](const std::vector<double>& x, std::vector<double>& y) {
+        for (size_t i = 0; i < n; ++i) y[i] = prior[i] * x[i];
+        for (const Row& row : rows) {
+            double dot = 0.0;
+            for (int k = 0; k < row.count; ++k) dot += row.taps[k].weight * x[row.taps[k].unknown];
+            dot *= row.weight;
+            for (int k = 0; k < row.count; ++k) y[row.taps[k].unknown] += row.taps[k].weight * dot;
+        }
+    };
+    const auto dot = [n](const std::vector<double>& a, const std::vector<double>& b) {
+        double s = 0.0;
+        for (size_t i = 0; i < n; ++i) s += a[i] * b[i];
+        return s;
+    };
+    delta.assign(n, 0.0);
+    std::vector<double> r = rhs, z(n), p(n), ap(n);
+    const double stop = kSolveTolerance * kSolveTolerance * dot(rhs, rhs);
+    for (size_t i = 0; i < n; ++i) z[i] = r[i] / diagonal[i];
+    p = z;
+    double rz = dot(r, z);
+    int iteration = 0;
+    while (iteration < kMaxIterations && dot(r, r) > stop) {
+        ++iteration;
+        apply(p, ap);
+        const double pap = dot(p, ap);
+        if (!(pap > 0.0)) break;
+        const double alpha = rz / pap;
+        for (size_t i = 0; i < n; ++i) {
+            delta[i] += alpha * p[i];
+            r[i] -= alpha * ap[i];
+        }
+        for (size_t i = 0; i < n; ++i) z[i] = r[i] / diagonal[i];
+        const double rz_next = dot(r, z);
+        const double beta = rz_next / rz;
+        rz = rz_next;
+        for (size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+    }
+    return iteration;
+}
+
+}  // namespace
+
+DVec3 bilinearLookup(const LightmapImage& image, const DVec2& texel) {
+    const double x = texel.x - 0.5, y = texel.y - 0.5;
+    const double fx0 = std::floor(x), fy0 = std::floor(y);
+    const double fx = x - fx0, fy = y - fy0;
+    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+    DVec3 sum(0.0);
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            const int xi = std::clamp(x0 + dx, 0, image.width - 1), yi = std::clamp(y0 + dy, 0, image.height - 1);
+            const size_t at = 3 * (static_cast<size_t>(yi) * image.width + xi);
+            const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
+            sum += w * DVec3(image.rgb[at], image.rgb[at + 1], image.rgb[at + 2]);
+        }
+    return sum;
+}
+
+ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout) {
+    ChartEdges result;
+    const double tolerance = kLightmapWeld * lightmapExtent(scene);
+    std::vector<std::vector<uint32_t>> welded(scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m) welded[m] = weldLightmapVertices(scene.meshes[m], tolerance);
+
+    std::vector<BoundaryEdge> edges;
+    for (uint32_t c = 0; c < layout.charts.size(); ++c)
+        if (layout.charts[c].atlas >= 0 && layout.charts[c].mesh < scene.meshes.size())
+            chartBoundary(layout.charts[c], c, edges);
+
+    std::map<EdgeKey, std::vector<size_t>> groups;  // ordered: deterministic pairing
+    for (size_t e = 0; e < edges.size(); ++e)
+        groups[edgeKey(layout.charts[edges[e].chart], edges[e], scene, welded)].push_back(e);
+    for (const auto& [key, members] : groups)
+        for (size_t i = 0; i < members.size(); ++i)
+            for (size_t j = i + 1; j < members.size(); ++j) {
+                BoundaryEdge& e1 = edges[members[i]];
+                BoundaryEdge& e2 = edges[members[j]];
+                if (e1.chart == e2.chart) continue;
+                const LightmapChart& c1 = layout.charts[e1.chart];
+                if (!sameSurface(scene, c1, c1.faces[e1.face], layout.charts[e2.chart].faces[e2.face])) continue;
+                pairEdges(layout, e1, e2, tolerance, result.seams);
+            }
+
+    // Seam ends by chart and position, so a chart corner on a seam takes the seam's light.
+    using PointKey = std::tuple<uint32_t, int64_t, int64_t, int64_t>;
+    const auto pointKey = [cell = 16.0 * tolerance](uint32_t chart, const DVec3& p) {
+        return PointKey{chart, std::llround(p.x / cell), std::llround(p.y / cell), std::llround(p.z / cell)};
+    };
+    std::map<PointKey, int64_t> seam_ends;
+    for (size_t k = 0; k < result.seams.size(); ++k) {
+        seam_ends.emplace(pointKey(result.seams[k].a.chart, result.seams[k].a.p_world), static_cast<int64_t>(k));
+        seam_ends.emplace(pointKey(result.seams[k].b.chart, result.seams[k].b.p_world), static_cast<int64_t>(k));
+    }
+    for (const BoundaryEdge& edge : edges) {
+        const LightmapChart& chart = layout.charts[edge.chart];
+        const int n = sampleCount(glm::length(edge.q - edge.p) * chart.texels_per_metre);
+        for (int k = 0; k < n; ++k) {
+            const double t = static_cast<double>(k) / (n - 1);
+            const bool on_seam = std::any_of(edge.seamed.begin(), edge.seamed.end(), [t](const auto& interval) {
+                return t >= interval.first - 1e-9 && t <= interval.second + 1e-9;
+            });
+            if (on_seam) continue;
+            EdgeSample sample = edgeSample(chart, edge, t);
+            if (k == 0 || k == n - 1) {
+                const auto it = seam_ends.find(pointKey(edge.chart, sample.p_world));
+                if (it != seam_ends.end()) sample.seam = it->second;
+            }
+            result.edges.push_back(sample);
+        }
+    }
+    return result;
+}
+
+StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
+                            int threads) {
+    StitchStats stats;
+    if (padding < 1 || lightmaps.images.empty()) {
+        lightmaps.stitch = stats;
+        return stats;
+    }
+    const LightmapLayout& layout = lightmaps.layout;
+    const ChartEdges found = findChartEdges(scene, layout);
+    stats.edge_samples = found.edges.size();
+    stats.seam_samples = found.seams.size();
+
+    // The light at every sampled point (H / pi), gathered in parallel, each in its own slot.
+    std::vector<const EdgeSample*> queries;
+    for (const EdgeSample& e : found.edges) queries.push_back(&e);
+    for (const SeamSample& s : found.seams) {
+        queries.push_back(&s.a);
+        queries.push_back(&s.b);
+    }
+    std::vector<DVec3> light(queries.size());
+    tbb::task_arena arena(threads > 0 ? threads : tbb::info::default_concurrency());
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t q = range.begin(); q < range.end(); ++q)
+                light[q] = irradiance(queries[q]->p_world, queries[q]->normal_world) / kPi;
+        });
+    });
+    double brightest = 0.0;
+    for (const DVec3& l : light) brightest = std::max({brightest, l.x, l.y, l.z});
+    const double floor = std::max(1e-6 * brightest, 1e-30);  // relative gaps in the dark are measured against this
+
+    const auto atlasOf = [&](const EdgeSample& e) { return layout.charts[e.chart].atlas; };
+    const auto imageOf = [&](const EdgeSample& e) -> const LightmapImage& { return lightmaps.images[atlasOf(e)]; };
+    for (const SeamSample& s : found.seams)
+        stats.max_seam_before = std::max(stats.max_seam_before, relativeGap(bilinearLookup(imageOf(s.a), s.a.texel),
+                                                                            bilinearLookup(imageOf(s.b), s.b.texel), floor));
+
+    Unknowns unknowns;
+    std::vector<Row> rows;
+    const auto anchor = [&](const EdgeSample& e, const DVec3& target) {
+        Row row;
+        row.weight = kEdgeWeight;
+        row.target = target;
+        addStencil(imageOf(e), atlasOf(e), e.chart, e.texel, 1.0, unknowns, row);
+        rows.push_back(row);
+    };
+    // A seam point aims at the mean of the light on its two faces (the vertex bake's average
+    // over face normals), from both sides.
+    const auto seamTarget = [&](size_t k) {
+        return 0.5 * (light[found.edges.size() + 2 * k] + light[found.edges.size() + 2 * k + 1]);
+    };
+    for (size_t k = 0; k < found.edges.size(); ++k)
+        anchor(found.edges[k], found.edges[k].seam >= 0 ? seamTarget(static_cast<size_t>(found.edges[k].seam)) : light[k]);
+    for (size_t k = 0; k < found.seams.size(); ++k) {
+        const SeamSample& s = found.seams[k];
+        const DVec3 target = seamTarget(k);
+        anchor(s.a, target);
+        anchor(s.b, target);
+        Row row;
+        row.weight = kSeamWeight;
+        addStencil(imageOf(s.a), atlasOf(s.a), s.a.chart, s.a.texel, 1.0, unknowns, row);
+        addStencil(imageOf(s.b), atlasOf(s.b), s.b.chart, s.b.texel, -1.0, unknowns, row);
+        rows.push_back(row);
+    }
+    const size_t n = unknowns.texels.size();
+    stats.texels = n;
+    std::vector<double> prior(n);
+    for (size_t i = 0; i < n; ++i) {
+        const auto [atlas, pixel] = unknowns.texels[i];
+        const LightmapImage& image = lightmaps.images[atlas];
+        if (image.state[pixel] != TexelState::Covered) prior[i] = kFree;
+        else prior[i] = centreOnGeometry(layout.charts[unknowns.charts[i]], image, pixel) ? kCoveredPrior : kPartialPrior;
+    }
+    std::vector<std::array<double, 3>> solved(n);
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> x0(n), rhs(n, 0.0), delta;
+        for (size_t i = 0; i < n; ++i) {
+            const auto [atlas, pixel] = unknowns.texels[i];
+            x0[i] = lightmaps.images[atlas].rgb[3 * pixel + c];
+        }
+        for (const Row& row : rows) {
+            double residual = row.target[c];
+            for (int k = 0; k < row.count; ++k) residual -= row.taps[k].weight * x0[row.taps[k].unknown];
+            for (int k = 0; k < row.count; ++k) rhs[row.taps[k].unknown] += row.weight * row.taps[k].weight * residual;
+        }
+        stats.iterations += solveChannel(rows, prior, rhs, delta);
+        for (size_t i = 0; i < n; ++i) solved[i][c] = x0[i] + delta[i];
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const auto [atlas, pixel] = unknowns.texels[i];
+        LightmapImage& image = lightmaps.images[atlas];
+        // Light is never negative; a steep fall at an edge could extrapolate the padding below 0.
+        for (int c = 0; c < 3; ++c) image.rgb[3 * pixel + c] = static_cast<float>(std::max(solved[i][c], 0.0));
+        if (image.state[pixel] == TexelState::Empty) image.state[pixel] = TexelState::Dilated;
+    }
+
+    for (const SeamSample& s : found.seams)
+        stats.max_seam_after = std::max(stats.max_seam_after, relativeGap(bilinearLookup(imageOf(s.a), s.a.texel),
+                                                                          bilinearLookup(imageOf(s.b), s.b.texel), floor));
+    for (size_t k = 0; k < found.edges.size(); ++k)
+        if (found.edges[k].seam < 0)
+            stats.max_edge_after = std::max(
+                stats.max_edge_after, relativeGap(bilinearLookup(imageOf(found.edges[k]), found.edges[k].texel), light[k], floor));
+    lightmaps.stitch = stats;
+    return stats;
+}
+
+}  // namespace radbake

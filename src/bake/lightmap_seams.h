@@ -1,0 +1,57 @@
+#pragma once
+// Chart edges and seams (issue 5). A bilinear lookup at a chart's edge reads the edge texels
+// and the first ring of padding; dilation fills that ring with averages, so the lookup on a
+// chart edge is off by about half a texel of gradient, and the two charts meeting at a seam
+// (pieces of a region cut by the cap, charts of a smooth surface meeting below the crease
+// angle) disagree. stitchLightmaps fits the texels under those lookups, by least squares, so
+// that the lookup at every sampled edge point gives the light there (the vertex bake's value
+// at a vertex) and both sides of a seam give the same light, while covered texels stay close
+// to their evaluated values and only the padding moves freely.
+#include <cstdint>
+#include <vector>
+
+#include "bake/lightmap_bake.h"
+#include "bake/lightmap_charts.h"
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+// A point on a chart's boundary edge.
+struct EdgeSample {
+    uint32_t chart = 0;
+    DVec2 texel{0.0};         // continuous atlas texel coordinates (texel centres at +0.5)
+    DVec3 p_world{0.0};       // on the chart face's own triangle
+    DVec3 normal_world{0.0};  // that face's normal
+    // For a boundary point at the end of a seam (a chart corner on the seam): the seam sample
+    // there, whose light (the mean over the faces meeting) it takes; -1 otherwise.
+    int64_t seam = -1;
+};
+
+// A point where two charts of one surface meet, seen from both.
+struct SeamSample {
+    EdgeSample a, b;
+};
+
+struct ChartEdges {
+    std::vector<EdgeSample> edges;  // boundary points that are not on a seam
+    std::vector<SeamSample> seams;
+};
+
+// Samples the boundary of every placed chart (about two points per texel of edge, ends
+// included) and pairs the boundary edges of different charts that lie on one surface: the
+// two sides of a cut through a triangle, or of a source edge whose faces' dihedral angle is
+// within the mesh's crease angle (or coplanar). Deterministic order: chart by chart.
+ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout);
+
+// Bilinear lookup at continuous texel coordinates (texel centres at +0.5), clamped to the image.
+DVec3 bilinearLookup(const LightmapImage& image, const DVec2& texel);
+
+// Fits the texels under the edge and seam lookups (see the top of this file); values are
+// H / pi from `irradiance`. Sequential solve over a parallel gather: the result does not
+// depend on `threads`. Needs padding >= 1 (a lookup on an edge reads one padding ring);
+// does nothing otherwise. Fills and returns lightmaps.stitch.
+StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
+                            int threads);
+
+}  // namespace radbake

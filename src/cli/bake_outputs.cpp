@@ -1,0 +1,89 @@
+// Lightmap, preview and manifest outputs of `radbake bake`.
+#include "cli/bake_outputs.h"
+
+#include "export/exr_io.h"
+#include "export/preview.h"
+
+namespace radbake::cli {
+namespace {
+
+constexpr int kPreviewWidth = 800;
+constexpr int kPreviewHeight = 600;
+
+RgbImage toRgbImage(const LightmapImage& image) {
+    RgbImage out;
+    out.width = image.width;
+    out.height = image.height;
+    out.rgb = image.rgb;
+    return out;
+}
+
+}  // namespace
+
+bool bakeSceneLightmaps(const Scene& scene, const Solution& solution, const LightmapArgs& args, float unit_scale,
+                        BakedLightmaps& baked, LightmapReport& report, Diagnostics& diagnostics) {
+    LightmapOptions options;
+    // The imported scene is in metres; the option counts texels per scene unit.
+    options.texel_density =
+        args.texel_density > 0.0 ? args.texel_density / static_cast<double>(unit_scale) : kDefaultTexelsPerMetre;
+    options.atlas_size = args.atlas_size;
+    options.padding = args.padding;
+    if (!bakeLightmaps(scene, solution, options, baked.lightmaps, diagnostics)) return false;
+    const LightmapLayout& layout = baked.lightmaps.layout;
+    baked.files.meshes = lightmapMeshes(scene, layout);
+    baked.files.atlas_files.clear();
+    for (size_t k = 0; k < layout.atlases.size(); ++k)
+        baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");
+
+    report.baked = true;
+    report.texels_per_unit = options.texel_density * static_cast<double>(unit_scale);
+    report.atlas_size = args.atlas_size;
+    report.padding = args.padding;
+    report.charts = layout.charts.size();
+    report.atlases = layout.atlases.size();
+    report.atlas_texels = 0;
+    for (const LightmapAtlas& atlas : layout.atlases)
+        report.atlas_texels += static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
+    report.covered_texels = baked.lightmaps.evaluated_texels;
+    report.occupancy = layout.occupancy;
+    return true;
+}
+
+bool stageLightmapExrs(OutputTransaction& transaction, const BakedLightmaps& baked,
+                       const std::vector<std::pair<std::string, std::string>>& provenance, bool exr_float,
+                       Diagnostics& diagnostics) {
+    const std::vector<LightmapImage>& images = baked.lightmaps.images;
+    for (size_t k = 0; k < images.size(); ++k) {
+        RgbImage image = toRgbImage(images[k]);
+        image.attributes = provenance;
+        image.attributes.emplace_back("radbake:atlas", std::to_string(k) + " of " + std::to_string(images.size()));
+        image.attributes.emplace_back("radbake:quantity", "H/pi: irradiance over pi, W m^-2 sr^-1, linear");
+        if (!writeExr(transaction.stage(baked.files.atlas_files[k]), image, ExrWriteOptions{exr_float}, diagnostics))
+            return false;
+    }
+    return true;
+}
+
+bool stagePreviews(OutputTransaction& transaction, const Scene& scene, const VertexBake& bake,
+                   const BakedLightmaps* baked, Diagnostics& diagnostics) {
+    const Camera* camera = scene.cameras.empty() ? nullptr : &scene.cameras.front();
+    const RgbImage view = renderBakedView(scene, bake, baked ? &baked->lightmaps : nullptr,
+                                          baked ? &baked->files.meshes : nullptr, camera, kPreviewWidth,
+                                          kPreviewHeight, diagnostics);
+    if (diagnostics.hasErrors()) return false;
+    if (!writeFileBytes(transaction.stage("preview/" + scene.name + "_view.png"),
+                        encodePreviewPng(view, autoExposure(view)), diagnostics))
+        return false;
+    if (!baked) return true;
+    // One exposure for every atlas (the first, fullest one's), so their brightness compares.
+    const std::vector<LightmapImage>& images = baked->lightmaps.images;
+    const double exposure = images.empty() ? 1.0 : autoExposure(toRgbImage(images.front()));
+    for (size_t k = 0; k < images.size(); ++k) {
+        if (!writeFileBytes(transaction.stage("preview/" + scene.name + "_atlas_" + std::to_string(k) + ".png"),
+                            encodePreviewPng(toRgbImage(images[k]), exposure), diagnostics))
+            return false;
+    }
+    return true;
+}
+
+}  // namespace radbake::cli

@@ -1,0 +1,169 @@
+// `radbake bake` lightmap outputs end to end: EXR atlases with their provenance, TEXCOORD_1 in
+// the glb, manifest.json that matches the files, stale lightmaps retired, previews.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <string>
+
+#include "../export/mini_json.h"
+#include "cli_support.h"
+#include "export/exr_io.h"
+#include "export/hash.h"
+
+using namespace clitest;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A unit square lamp (L_e = 2) facing down at height 1 over a black 4 x 4 floor.
+void writeLampScene(const fs::path& dir) {
+    writeText(dir / "lamp.mtl", "newmtl light\nKd 0 0 0\nKe 2 2 2\nnewmtl floor\nKd 0 0 0\n");
+    writeText(dir / "lamp.obj",
+              "mtllib lamp.mtl\n"
+              "v -0.5 1 -0.5\nv 0.5 1 -0.5\nv 0.5 1 0.5\nv -0.5 1 0.5\n"
+              "v -2 0 -2\nv -2 0 2\nv 2 0 2\nv 2 0 -2\n"
+              "o lamp\nusemtl light\nf 1 2 3 4\n"
+              "o floor\nusemtl floor\nf 5 6 7 8\n");
+}
+
+// Every file under `dir`, as paths relative to it with forward slashes.
+std::set<std::string> filesUnder(const fs::path& dir) {
+    std::set<std::string> names;
+    if (!fs::exists(dir)) return names;
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+        if (entry.is_regular_file()) names.insert(fs::relative(entry.path(), dir).generic_string());
+    return names;
+}
+
+// The JSON chunk of a .glb (header 12 bytes, then the chunk's length and type).
+std::string glbJson(const fs::path& path) {
+    const std::string bytes = readBytes(path);
+    REQUIRE(bytes.size() > 20);
+    uint32_t length = 0;
+    std::copy_n(bytes.data() + 12, 4, reinterpret_cast<char*>(&length));
+    return bytes.substr(20, length);
+}
+
+std::string attribute(const radbake::RgbImage& image, const std::string& name) {
+    for (const auto& [key, value] : image.attributes)
+        if (key == name) return value;
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("bake writes EXR lightmaps with provenance, TEXCOORD_1, and a manifest of every file") {
+    TempDir tmp;
+    writeLampScene(tmp.path);
+    const fs::path out = tmp.path / "out";
+    const RunResult run = runRadbake("bake " + quote(tmp.path / "lamp.obj") + " -o " + quote(out) + " -q");
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    CHECK(run.output.find("1 lightmap (") != std::string::npos);
+
+    radbake::Diagnostics diagnostics;
+    const std::optional<radbake::RgbImage> atlas = radbake::readExr(out / "lightmaps" / "lamp_0.exr", diagnostics);
+    REQUIRE(atlas);
+    CHECK(atlas->half);
+    CHECK(attribute(*atlas, "radbake:scene") == "lamp.obj");
+    CHECK(attribute(*atlas, "radbake:scene_sha256") == radbake::sha256File(tmp.path / "lamp.obj", diagnostics).value());
+    CHECK(attribute(*atlas, "radbake:version").find("radbake ") == 0);
+    CHECK(attribute(*atlas, "radbake:options").find("quality=medium visibility=exact") == 0);
+    CHECK(attribute(*atlas, "radbake:options").find("texel_density=16 atlas_size=1024 padding=2") != std::string::npos);
+    CHECK(attribute(*atlas, "radbake:atlas") == "0 of 1");
+
+    // The brightest floor texel is near the centre below the lamp: H/pi there from the closed
+    // form (4 corner rectangles of 0.5 x 0.5 at height 1), within a texel's offset and 1 %.
+    const double centre = 4 * 2.0 * 0.5 * 2 * (0.5 / std::sqrt(1.25) * std::atan(0.5 / std::sqrt(1.25))) / kPi;
+    const float brightest = *std::max_element(atlas->rgb.begin(), atlas->rgb.end());
+    CHECK(brightest <= centre * 1.01);
+    CHECK(brightest >= centre * 0.97);
+
+    const std::string json = glbJson(out / "lamp.glb");
+    CHECK(json.find("\"TEXCOORD_1\"") != std::string::npos);
+    CHECK(json.find("lightmaps/lamp_0.exr") != std::string::npos);
+
+    const std::set<std::string> files = filesUnder(out);
+    CHECK(files == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "manifest.json", "lightmaps/lamp_0.exr"});
+    const minijson::Value manifest = minijson::parse(readBytes(out / "manifest.json"));
+    std::set<std::string> listed;
+    for (size_t i = 0; i < manifest["files"].size(); ++i) {
+        const minijson::Value& entry = manifest["files"][i];
+        const std::string path = entry["path"].str();
+        listed.insert(path);
+        CHECK_MESSAGE(entry["bytes"].num() == static_cast<double>(fs::file_size(out / path)), path);
+        CHECK_MESSAGE(entry["sha256"].str() == radbake::sha256File(out / path, diagnostics).value(), path);
+    }
+    std::set<std::string> expected = files;
+    expected.erase("manifest.json");
+    CHECK(listed == expected);
+
+    const minijson::Value stats = minijson::parse(readBytes(out / "stats.json"));
+    CHECK(stats["lightmaps"].boolean);
+    CHECK(stats["atlases"].num() == 1);
+    CHECK(stats["occupancy"].num() > 0.0);
+    CHECK(stats["occupancy"].num() <= 1.0);
+    CHECK(stats["phases"].has("lightmaps"));
+}
+
+TEST_CASE("a re-bake with fewer atlases, then --no-lightmaps, leaves no stale lightmaps") {
+    TempDir tmp;
+    writeLampScene(tmp.path);
+    const fs::path out = tmp.path / "out";
+    const std::string scene = "bake " + quote(tmp.path / "lamp.obj") + " -o " + quote(out) + " -q --quality draft";
+    // 16-texel atlases hold one 12-texel chart each: the 64-texel floor alone needs many.
+    const RunResult small = runRadbake(scene + " --atlas-size 16");
+    INFO(small.output);
+    REQUIRE(small.exit_code == 0);
+    const size_t many = filesUnder(out / "lightmaps").size();
+    CHECK(many > 10);
+    CHECK(fs::exists(out / "lightmaps" / ("lamp_" + std::to_string(many - 1) + ".exr")));
+
+    const RunResult one = runRadbake(scene);
+    INFO(one.output);
+    REQUIRE(one.exit_code == 0);
+    CHECK(filesUnder(out / "lightmaps") == std::set<std::string>{"lamp_0.exr"});
+
+    const RunResult none = runRadbake(scene + " --no-lightmaps");
+    INFO(none.output);
+    REQUIRE(none.exit_code == 0);
+    CHECK_FALSE(fs::exists(out / "lightmaps" / "lamp_0.exr"));
+    CHECK(filesUnder(out) == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "manifest.json"});
+    CHECK(glbJson(out / "lamp.glb").find("TEXCOORD_1") == std::string::npos);
+    CHECK_FALSE(minijson::parse(readBytes(out / "stats.json"))["lightmaps"].boolean);
+}
+
+TEST_CASE("--exr-float writes 32-bit lightmaps; --preview writes PNGs of the view and of each atlas") {
+    TempDir tmp;
+    writeLampScene(tmp.path);
+    const fs::path out = tmp.path / "out";
+    const RunResult run = runRadbake("bake " + quote(tmp.path / "lamp.obj") + " -o " + quote(out) +
+                                     " -q --quality draft --exr-float --preview");
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    radbake::Diagnostics diagnostics;
+    const std::optional<radbake::RgbImage> atlas = radbake::readExr(out / "lightmaps" / "lamp_0.exr", diagnostics);
+    REQUIRE(atlas);
+    CHECK_FALSE(atlas->half);
+    for (const char* name : {"preview/lamp_view.png", "preview/lamp_atlas_0.png"}) {
+        const std::string png = readBytes(out / name);
+        REQUIRE_MESSAGE(png.size() > 24, name);
+        CHECK_MESSAGE(png.substr(1, 3) == "PNG", name);
+        // IHDR: big-endian width and height at bytes 16 and 20.
+        const auto be32 = [&](size_t at) {
+            return (uint32_t(uint8_t(png[at])) << 24) | (uint32_t(uint8_t(png[at + 1])) << 16) |
+                   (uint32_t(uint8_t(png[at + 2])) << 8) | uint32_t(uint8_t(png[at + 3]));
+        };
+        if (std::string(name) == "preview/lamp_view.png") {
+            CHECK(be32(16) == 800);
+            CHECK(be32(20) == 600);
+        } else {
+            CHECK(be32(16) == static_cast<uint32_t>(atlas->width));
+            CHECK(be32(20) == static_cast<uint32_t>(atlas->height));
+        }
+    }
+}

@@ -1,0 +1,73 @@
+// SHA-256 against the FIPS 180-2 example vectors, in memory and streamed from files.
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include "export/hash.h"
+
+using namespace radbake;
+namespace fs = std::filesystem;
+
+namespace {
+const char* const kAbc = "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad";
+const char* const kEmpty = "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855";
+const char* const k448Bits = "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1";
+const char* const k448Message = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
+const char* const kMillionA = "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0";
+
+struct TempFile {
+    fs::path path;
+    explicit TempFile(const std::string& content) {
+        std::string pattern = (fs::temp_directory_path() / "radbake-hash-XXXXXX").string();
+        const int fd = mkstemp(pattern.data());
+        REQUIRE(fd >= 0);
+        close(fd);
+        path = pattern;
+        std::ofstream(path, std::ios::binary) << content;
+    }
+    ~TempFile() {
+        std::error_code ec;
+        fs::remove(path, ec);
+    }
+};
+}  // namespace
+
+TEST_CASE("sha256Hex gives the FIPS 180-2 digests") {
+    CHECK(sha256Hex("abc") == kAbc);
+    CHECK(sha256Hex("") == kEmpty);
+    CHECK(sha256Hex(k448Message) == k448Bits);
+    CHECK(sha256Hex(std::string(1000000, 'a')) == kMillionA);
+}
+
+TEST_CASE("sha256File streams a file and matches the in-memory digest") {
+    Diagnostics diagnostics;
+    for (const auto& [content, digest] : {std::pair<std::string, const char*>{"abc", kAbc},
+                                          {"", kEmpty},
+                                          {k448Message, k448Bits},
+                                          {std::string(1000000, 'a'), kMillionA}}) {  // many read blocks
+        TempFile file(content);
+        const std::optional<std::string> got = sha256File(file.path, diagnostics);
+        REQUIRE(got.has_value());
+        CHECK(*got == digest);
+    }
+    CHECK(diagnostics.all().empty());
+}
+
+TEST_CASE("sha256File reports a missing file and a directory at their paths") {
+    Diagnostics diagnostics;
+    const fs::path missing = fs::temp_directory_path() / "radbake-hash-no-such-file";
+    CHECK_FALSE(sha256File(missing, diagnostics).has_value());
+    REQUIRE(diagnostics.errorCount() == 1);
+    CHECK(diagnostics.all()[0].location.file == missing.string());
+    CHECK(diagnostics.all()[0].message == "cannot open file to hash it: No such file or directory");
+
+    const fs::path directory = fs::temp_directory_path();
+    CHECK_FALSE(sha256File(directory, diagnostics).has_value());
+    REQUIRE(diagnostics.errorCount() == 2);
+    CHECK(diagnostics.all()[1].location.file == directory.string());
+    CHECK(diagnostics.all()[1].message == "cannot read file to hash it: Is a directory");
+}

@@ -1,0 +1,113 @@
+// manifest.json parsed back: every file once, sorted, with its true size and SHA-256.
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "export/hash.h"
+#include "export/manifest.h"
+#include "export/output_transaction.h"
+#include "mini_json.h"
+
+using namespace radbake;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        std::string pattern = (fs::temp_directory_path() / "radbake-manifest-XXXXXX").string();
+        REQUIRE(mkdtemp(pattern.data()) != nullptr);
+        path = pattern;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("the manifest lists each output once, sorted, with its size and SHA-256") {
+    TempDir tmp;
+    fs::create_directories(tmp.path / "lightmaps");
+    const std::map<std::string, std::string> files = {
+        {"room.glb", "glTF bytes"},
+        {"lightmaps/room_0.exr", std::string(100000, 'x')},
+        {"lightmaps/room_1.exr", "abc"},
+        {"stats.json", ""},
+    };
+    Diagnostics diagnostics;
+    for (const auto& [name, content] : files) REQUIRE(writeFileBytes(tmp.path / name, content, diagnostics));
+    const fs::path manifest_path = tmp.path / "manifest.json";
+    // Unsorted, one repeated, and the manifest itself listed as OutputTransaction::staged() may.
+    REQUIRE(writeManifest(manifest_path, tmp.path,
+                          {"stats.json", "room.glb", "manifest.json", "lightmaps/room_1.exr", "lightmaps/room_0.exr",
+                           "room.glb"},
+                          "radbake 9.9 \"test\"", diagnostics));
+    CHECK(diagnostics.all().empty());
+
+    const minijson::Value manifest = minijson::parse(slurp(manifest_path));
+    CHECK(manifest["generator"].str() == "radbake 9.9 \"test\"");
+    const minijson::Value& listed = manifest["files"];
+    REQUIRE(listed.size() == 4);
+    const char* const expected_order[] = {"lightmaps/room_0.exr", "lightmaps/room_1.exr", "room.glb", "stats.json"};
+    for (size_t i = 0; i < 4; ++i) {
+        CAPTURE(i);
+        const std::string path = listed[i]["path"].str();
+        CHECK(path == expected_order[i]);
+        CHECK(listed[i]["bytes"].integer() == files.at(path).size());
+        CHECK(listed[i]["sha256"].str() == sha256Hex(files.at(path)));
+        CHECK(listed[i].size() == 3);
+    }
+    CHECK(listed[1]["sha256"].str() == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    CHECK(listed[3]["sha256"].str() == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+}
+
+TEST_CASE("a manifest of nothing is valid JSON, and a missing output is reported at its path") {
+    TempDir tmp;
+    Diagnostics diagnostics;
+    const fs::path manifest_path = tmp.path / "manifest.json";
+    REQUIRE(writeManifest(manifest_path, tmp.path, {}, "radbake", diagnostics));
+    const minijson::Value manifest = minijson::parse(slurp(manifest_path));
+    CHECK(manifest["files"].size() == 0);
+    CHECK(manifest["files"].type == minijson::Value::Type::Array);
+
+    fs::remove(manifest_path);
+    CHECK_FALSE(writeManifest(manifest_path, tmp.path, {"lightmaps/absent.exr"}, "radbake", diagnostics));
+    REQUIRE(diagnostics.errorCount() == 1);
+    CHECK(diagnostics.all()[0].location.file == (tmp.path / "lightmaps/absent.exr").string());
+    CHECK_FALSE(fs::exists(manifest_path));
+}
+
+TEST_CASE("a manifest written through a transaction describes the committed files") {
+    TempDir tmp;
+    const fs::path out = tmp.path / "room";
+    Diagnostics diagnostics;
+    {
+        OutputTransaction transaction(out);
+        REQUIRE(transaction.begin(diagnostics));
+        REQUIRE(writeFileBytes(transaction.stage("room.glb"), "glb", diagnostics));
+        REQUIRE(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "exr", diagnostics));
+        REQUIRE(writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), transaction.staged(),
+                              "radbake", diagnostics));
+        REQUIRE(transaction.commit(diagnostics));
+    }
+    const minijson::Value manifest = minijson::parse(slurp(out / "manifest.json"));
+    REQUIRE(manifest["files"].size() == 2);
+    for (size_t i = 0; i < 2; ++i) {
+        const std::string path = manifest["files"][i]["path"].str();
+        CHECK(manifest["files"][i]["sha256"].str() == sha256Hex(slurp(out / path)));
+    }
+}
