@@ -6,7 +6,7 @@ namespace radbake {
 // Checks a freshly read scene before anything else sees it. Non-finite numbers are located
 // errors; degenerate triangles, out-of-range indices and unused vertices are dropped and
 // counted in one warning per mesh; reflectance >= 1 is clamped below 1 with a warning naming
-// the material; duplicate coplanar faces are reported. False when an error was reported.
+// the material; duplicate or partly overlapping coplanar faces facing the same way are reported (back-to-back faces are not). False when an error was reported.
 bool validateScene(Scene& scene, Diagnostics& diagnostics);
 
 }  // namespace radbake
