@@ -253,7 +253,8 @@ GlbFile readGlb(const fs::path& path) {
     return glb;
 }
 
-// COLOR_0 (float VEC3) of every primitive of every mesh, in file order; a primitive's
+// The baked light of every primitive of every mesh, in file order: _RADBAKE_LIGHT (exact), or
+// COLOR_0 in files without it (older bakes, which wrote the exact value there); a primitive's
 // TEXCOORD_1 (lightmap UVs) and lightmap file must match exactly.
 Samples loadGlb(const fs::path& path) {
     const GlbFile glb = readGlb(path);
@@ -267,11 +268,13 @@ Samples loadGlb(const fs::path& path) {
         const Json& primitives = mesh.at("primitives");
         for (size_t p = 0; p < primitives.array.size(); ++p) {
             const Json& primitive = primitives.at(p);
-            const Json* color = primitive.at("attributes").find("COLOR_0");
+            const Json& attributes = primitive.at("attributes");
+            const char* attribute = attributes.find("_RADBAKE_LIGHT") ? "_RADBAKE_LIGHT" : "COLOR_0";
+            const Json* color = attributes.find(attribute);
             std::string group = "mesh " + (name ? "'" + name->string + "'" : std::to_string(m));
             if (primitives.array.size() > 1) group += " primitive " + std::to_string(p);
             if (!color) fail("glb: " + group + " has no COLOR_0");
-            const std::vector<double> colors = glb.floats(color->index(), 3, "COLOR_0 of " + group);
+            const std::vector<double> colors = glb.floats(color->index(), 3, attribute + (" of " + group));
             samples.groups.emplace_back(samples.count(), group);
             samples.layout += group + ": " + std::to_string(colors.size() / 3) + " vertices";
             if (const Json* extras = primitive.find("extras"))

@@ -3,7 +3,7 @@
 // same kind, compared value by value.
 //
 //   .exr        R, G, B of every texel (the images must have the same size)
-//   .glb        COLOR_0 of every vertex of every primitive of every mesh (same meshes, same
+//   .glb        _RADBAKE_LIGHT (else COLOR_0) of every vertex of every primitive of every mesh (same meshes, same
 //               primitives, same vertex counts, same lightmap file per primitive); a
 //               primitive's TEXCOORD_1 (lightmap UVs) must match exactly
 //   .ply        red, green, blue of every vertex (same vertex count); u1 v1 and lightmap,

@@ -109,14 +109,20 @@ struct PrimitiveData {
 std::string primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& data, const std::string& tail) {
     const int position = addVec3Accessor(lists, bin, data.positions, true);
     const int normal = addVec3Accessor(lists, bin, data.normals, false);
-    const int color = addVec3Accessor(lists, bin, data.colors, false);
+    // glTF requires COLOR_0 in [0, 1]: it gets the clamped value for viewers and engines'
+    // vertex colours, and _RADBAKE_LIGHT (an application-specific attribute) the exact one.
+    std::vector<Vec3> clamped(data.colors.size());
+    for (size_t i = 0; i < clamped.size(); ++i) clamped[i] = glm::clamp(data.colors[i], Vec3(0.0f), Vec3(1.0f));
+    const int color = addVec3Accessor(lists, bin, clamped, false);
+    const int light = addVec3Accessor(lists, bin, data.colors, false);
     const int uv = data.uv ? addVec2Accessor(lists, bin, *data.uv) : -1;
     const size_t index_offset = bin.size();
     append(bin, data.triangles);  // UVec3 = three packed uint32
     const int index_view = addView(lists, index_offset, data.triangles.size() * sizeof(UVec3), kElementArrayBuffer);
     const int indices = addAccessor(lists, index_view, kUnsignedInt, data.triangles.size() * 3, "SCALAR");
     std::string json = "{\"attributes\":{\"POSITION\":" + std::to_string(position) +
-                       ",\"NORMAL\":" + std::to_string(normal) + ",\"COLOR_0\":" + std::to_string(color);
+                       ",\"NORMAL\":" + std::to_string(normal) + ",\"COLOR_0\":" + std::to_string(color) +
+                       ",\"_RADBAKE_LIGHT\":" + std::to_string(light);
     // Both UV sets share one accessor (see the header: radbake has no material UVs).
     if (uv >= 0) json += ",\"TEXCOORD_0\":" + std::to_string(uv) + ",\"TEXCOORD_1\":" + std::to_string(uv);
     return json + "},\"indices\":" + std::to_string(indices) + ",\"mode\":4" + tail + "}";
@@ -263,7 +269,8 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     for (size_t i = 0; i < lists.nodes.size(); ++i) node_indices.push_back(std::to_string(i));
 
     std::string json = "{\"asset\":{\"version\":\"2.0\",\"generator\":" + jsonString(options.generator) +
-                       ",\"extras\":{\"COLOR_0\":\"baked irradiance H/pi per vertex, linear, unclamped\"";
+                       ",\"extras\":{\"_RADBAKE_LIGHT\":\"baked irradiance H/pi per vertex, linear, unclamped\","
+                       "\"COLOR_0\":\"_RADBAKE_LIGHT clamped to [0, 1], as glTF requires\"";
     if (options.lightmaps) {
         json += ",\"TEXCOORD_1\":\"lightmap UVs (TEXCOORD_0 repeats them); u right, v down from the top row\"" +
                 std::string(",\"radbake_lightmaps\":") + stringList(options.lightmaps->atlas_files);

@@ -1,8 +1,9 @@
 #pragma once
 // glTF 2.0 binary (.glb) of a scene's meshes with the baked value per vertex, written by
 // hand (JSON text + one binary buffer). One glTF mesh with one triangle primitive and one
-// node per radbake Mesh; POSITION, NORMAL, COLOR_0 (the baked value: linear float VEC3, may
-// exceed 1) and uint32 indices; one glTF material per Scene material with baseColorFactor =
+// node per radbake Mesh; POSITION, NORMAL, _RADBAKE_LIGHT (the baked value: linear float VEC3,
+// may exceed 1), COLOR_0 (the same clamped to [0, 1], as glTF requires of colours) and uint32
+// indices; one glTF material per Scene material with baseColorFactor =
 // reflectance and emissiveFactor = emission (emission above 1 is normalised and carried by
 // KHR_materials_emissive_strength).
 //
@@ -10,8 +11,8 @@
 // LightmapMesh instead (vertices split at chart seams), as one primitive per atlas it uses,
 // since an engine binds one lightmap per primitive:
 //   POSITION, NORMAL (the source normals carried over with interpolateSource when the mesh
-//   has them, else the face normal of the source triangle), COLOR_0 (the vertex bake carried
-//   over with interpolateSource), TEXCOORD_1 = the lightmap UVs (u right, v down from the
+//   has them, else the face normal of the source triangle), _RADBAKE_LIGHT and COLOR_0 (the
+//   vertex bake carried over with interpolateSource), TEXCOORD_1 = the lightmap UVs (u right, v down from the
 //   image's top row, in [0, 1] of the atlas) and TEXCOORD_0 = the same accessor: glTF wants
 //   UV sets numbered from 0 without gaps, and radbake reads no material UVs.
 //   primitive extras: {"radbake_lightmap": "lightmaps/x_0.exr", "radbake_lightmap_index": 0}

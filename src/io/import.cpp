@@ -55,9 +55,10 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
 
     Scene scene;
     scene.source_path = path;
+    // The name outputs are called by: the file name without its format suffixes. Only the
+    // last extension is a format (furnace_rho_0.99.wrl is "furnace_rho_0.99", not "furnace_rho_0").
     std::string stem = std::filesystem::path(path).filename().string();
-    for (const char* suffix : {".gz", ".wrl", ".WRL", ".vrml"})
-        if (stem.size() > std::strlen(suffix) && stem.ends_with(suffix)) stem.resize(stem.size() - std::strlen(suffix));
+    if (stem.size() > 3 && stem.ends_with(".gz")) stem.resize(stem.size() - 3);
     scene.name = std::filesystem::path(stem).stem().string();
     if (scene.name.empty()) scene.name = "scene";
 

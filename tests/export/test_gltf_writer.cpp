@@ -118,11 +118,11 @@ TEST_CASE("glb container, JSON chunk and buffer layout") {
     CHECK(json["nodes"].size() == 2);
     CHECK(json["scenes"][0]["nodes"].size() == 2);
     CHECK(json["materials"].size() == 2);
-    CHECK(json["accessors"].size() == 8);  // 4 per drawn mesh
-    CHECK(json["bufferViews"].size() == 8);
+    CHECK(json["accessors"].size() == 10);  // 5 per drawn mesh
+    CHECK(json["bufferViews"].size() == 10);
 
-    // Floor: 4 vertices * 3 attributes * 12 bytes + 6 indices * 4; lamp: 3 * 3 * 12 + 3 * 4.
-    const size_t expected_bytes = 4 * 3 * 12 + 6 * 4 + 3 * 3 * 12 + 3 * 4;
+    // Floor: 4 vertices * 4 attributes * 12 bytes + 6 indices * 4; lamp: 3 * 4 * 12 + 3 * 4.
+    const size_t expected_bytes = 4 * 4 * 12 + 6 * 4 + 3 * 4 * 12 + 3 * 4;
     CHECK(json["buffers"][0]["byteLength"].integer() == expected_bytes);
     CHECK(glb.bin.size() == expected_bytes);  // already a multiple of 4: no padding
     size_t view_sum = 0;
@@ -168,7 +168,7 @@ TEST_CASE("glb attributes decode back to the scene and the bake") {
             CHECK(position_accessor["max"][k].num() == doctest::Approx(hi[k]).epsilon(1e-8));
         }
 
-        const std::vector<float> colors = readAccessor<float>(glb, attributes["COLOR_0"].integer(), 3);
+        const std::vector<float> colors = readAccessor<float>(glb, attributes["_RADBAKE_LIGHT"].integer(), 3);
         for (size_t v = 0; v < mesh.positions.size(); ++v)
             for (int k = 0; k < 3; ++k) CHECK(colors[3 * v + k] == bake.values[m][v][k]);
 
@@ -237,16 +237,28 @@ TEST_CASE("glb writer replaces non-finite baked values by 0 with one warning") {
     const Glb glb = splitGlb(encodeGlb(literalScene(), bake, {}, diagnostics));
     CHECK(diagnostics.warningCount() == 1);
     const std::vector<float> colors =
-        readAccessor<float>(glb, glb.json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+        readAccessor<float>(glb, glb.json["meshes"][0]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
     CHECK(colors[3 * 1 + 0] == 0.0f);  // the whole vertex value is zeroed
     CHECK(colors[3 * 1 + 1] == 0.0f);
     CHECK(colors[3 * 2 + 0] == 4.0f);
 }
 
-TEST_CASE("without lightmaps the glb is byte-identical to the writer before lightmaps") {
+TEST_CASE("COLOR_0 is the baked value clamped to [0, 1], as glTF requires; _RADBAKE_LIGHT is exact") {
     Diagnostics diagnostics;
-    // SHA-256 of the literal scene's glb as written before GltfOptions::lightmaps existed.
-    CHECK(sha256Hex(encodeGlb(literalScene(), literalBake(), {"radbake test"}, diagnostics)) == "f9844034300380cf126b6245431fc0754090059f9c90a5855a55c572b81cec7e");
+    const VertexBake bake = literalBake();
+    const Glb glb = splitGlb(encodeGlb(literalScene(), bake, {"radbake test"}, diagnostics));
+    for (size_t m = 0; m < 2; ++m) {
+        const minijson::Value& attributes = glb.json["meshes"][m]["primitives"][0]["attributes"];
+        CHECK_FALSE(attributes.has("TEXCOORD_0"));  // no lightmaps, no UVs
+        const std::vector<float> color = readAccessor<float>(glb, attributes["COLOR_0"].integer(), 3);
+        const std::vector<float> light = readAccessor<float>(glb, attributes["_RADBAKE_LIGHT"].integer(), 3);
+        REQUIRE(color.size() == 3 * bake.values[m].size());
+        for (size_t v = 0; v < bake.values[m].size(); ++v)
+            for (int k = 0; k < 3; ++k) {
+                CHECK(light[3 * v + k] == bake.values[m][v][k]);
+                CHECK(color[3 * v + k] == std::clamp(bake.values[m][v][k], 0.0f, 1.0f));
+            }
+    }
 }
 
 namespace {
@@ -348,7 +360,7 @@ TEST_CASE("glb with lightmaps: one primitive per atlas, TEXCOORD_1, interpolated
             CHECK(position_accessor["count"].integer() == distinct.size());  // only this atlas's vertices
             const std::vector<float> positions = readAccessor<float>(glb, position_index, 3);
             const std::vector<float> normals = readAccessor<float>(glb, attributes["NORMAL"].integer(), 3);
-            const std::vector<float> colors = readAccessor<float>(glb, attributes["COLOR_0"].integer(), 3);
+            const std::vector<float> colors = readAccessor<float>(glb, attributes["_RADBAKE_LIGHT"].integer(), 3);
             const std::vector<float> uvs = readAccessor<float>(glb, attributes["TEXCOORD_1"].integer(), 2);
             REQUIRE(uvs.size() == 2 * distinct.size());
             for (size_t i = 0; i < indices.size(); ++i) {
@@ -383,11 +395,11 @@ TEST_CASE("glb with lightmaps: one primitive per atlas, TEXCOORD_1, interpolated
     }
     // Closed-form spot checks: the floor's cut vertex and the lamp's centroid.
     const std::vector<float> floor_colors =
-        readAccessor<float>(glb, json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+        readAccessor<float>(glb, json["meshes"][0]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
     CHECK(floor_colors[3 * 2 + 0] == doctest::Approx(0.8));  // (0.1 + 1.5) / 2; third new vertex is m
     CHECK(floor_colors[3 * 2 + 2] == doctest::Approx(1.65));
     const std::vector<float> lamp_colors =
-        readAccessor<float>(glb, json["meshes"][1]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+        readAccessor<float>(glb, json["meshes"][1]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
     CHECK(lamp_colors[0] == doctest::Approx(10.0));
     CHECK(lamp_colors[1] == doctest::Approx(11.0));
     CHECK(lamp_colors[2] == doctest::Approx(12.0));
@@ -406,10 +418,10 @@ TEST_CASE("glb with lightmaps writes a mesh without charts as before, and refuse
     CHECK_FALSE(lamp.has("extras"));
     REQUIRE(lamp["primitives"].size() == 1);
     CHECK_FALSE(lamp["primitives"][0]["attributes"].has("TEXCOORD_1"));
-    CHECK(lamp["primitives"][0]["attributes"].size() == 3);
-    const std::vector<float> colors = readAccessor<float>(with, lamp["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+    CHECK(lamp["primitives"][0]["attributes"].size() == 4);
+    const std::vector<float> colors = readAccessor<float>(with, lamp["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
     const std::vector<float> colors_before =
-        readAccessor<float>(without, without.json["meshes"][1]["primitives"][0]["attributes"]["COLOR_0"].integer(), 3);
+        readAccessor<float>(without, without.json["meshes"][1]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
     CHECK(colors == colors_before);
     CHECK(diagnostics.all().empty());
 
