@@ -100,6 +100,38 @@ void embreeErrorCallback(void* user, RTCError code, const char* text) {
     static_cast<RayCaster::Impl*>(user)->recordError(code, text);
 }
 
+// Lane `lane` of an Embree ray packet (RTCRay4 or RTCRay8) as the segment from `a` (relative to
+// the scene's centred frame) along `delta`, both ends shortened by epsilon: the arithmetic of
+// Impl::occluded(), so a segment gets the same answer in a packet as alone. An unused lane, or
+// a segment too short (or not finite) to be blocked, is left invalid: false, counted as open.
+template <typename Packet>
+bool setSegmentLane(Packet& packet, int* valid, size_t lane, const DVec3& a, const DVec3& delta, double epsilon,
+                    bool used) {
+    valid[lane] = 0;
+    packet.org_x[lane] = static_cast<float>(a.x);
+    packet.org_y[lane] = static_cast<float>(a.y);
+    packet.org_z[lane] = static_cast<float>(a.z);
+    packet.dir_x[lane] = packet.dir_y[lane] = 0.0f;
+    packet.dir_z[lane] = 1.0f;
+    packet.tnear[lane] = 0.0f;
+    packet.tfar[lane] = 0.0f;
+    packet.time[lane] = 0.0f;
+    packet.mask[lane] = 0xFFFFFFFFu;
+    packet.id[lane] = static_cast<unsigned>(lane);
+    packet.flags[lane] = 0;
+    if (!used) return false;
+    const double length = glm::length(delta);
+    if (!(length > 2.0 * epsilon) || !std::isfinite(length)) return false;
+    const DVec3 direction = delta / length;
+    valid[lane] = -1;
+    packet.dir_x[lane] = static_cast<float>(direction.x);
+    packet.dir_y[lane] = static_cast<float>(direction.y);
+    packet.dir_z[lane] = static_cast<float>(direction.z);
+    packet.tnear[lane] = static_cast<float>(epsilon);
+    packet.tfar[lane] = static_cast<float>(length - epsilon);
+    return true;
+}
+
 bool usableTriangle(const Mesh& mesh, const UVec3& t) {
     const size_t n = mesh.positions.size();
     if (t.x >= n || t.y >= n || t.z >= n) return false;
@@ -263,35 +295,10 @@ size_t RayCaster::Impl::countOpenPaired(const std::vector<DVec3>& from, const st
         alignas(32) int valid[kLanes];
         for (size_t lane = 0; lane < kLanes; ++lane) {
             const size_t k = first + lane;
-            valid[lane] = 0;
-            packet.org_x[lane] = packet.org_y[lane] = packet.org_z[lane] = 0.0f;
-            packet.dir_x[lane] = packet.dir_y[lane] = 0.0f;
-            packet.dir_z[lane] = 1.0f;
-            packet.tnear[lane] = 0.0f;
-            packet.tfar[lane] = 0.0f;
-            packet.time[lane] = 0.0f;
-            packet.mask[lane] = 0xFFFFFFFFu;
-            packet.id[lane] = static_cast<unsigned>(lane);
-            packet.flags[lane] = 0;
-            if (k >= from.size()) continue;
-            const DVec3 a = from[k] - origin;
-            const DVec3 delta = to[pairedIndex(k, n)] - from[k];
-            const double length = glm::length(delta);
-            // Same rules as occluded(): too short (or not finite) counts as open.
-            if (!(length > 2.0 * epsilon) || !std::isfinite(length)) {
-                ++open;
-                continue;
-            }
-            const DVec3 direction = delta / length;
-            valid[lane] = -1;
-            packet.org_x[lane] = static_cast<float>(a.x);
-            packet.org_y[lane] = static_cast<float>(a.y);
-            packet.org_z[lane] = static_cast<float>(a.z);
-            packet.dir_x[lane] = static_cast<float>(direction.x);
-            packet.dir_y[lane] = static_cast<float>(direction.y);
-            packet.dir_z[lane] = static_cast<float>(direction.z);
-            packet.tnear[lane] = static_cast<float>(epsilon);
-            packet.tfar[lane] = static_cast<float>(length - epsilon);
+            const bool used = k < from.size();
+            const DVec3 a = used ? from[k] - origin : DVec3(0.0);
+            const DVec3 delta = used ? to[pairedIndex(k, n)] - from[k] : DVec3(0.0);
+            if (!setSegmentLane(packet, valid, lane, a, delta, epsilon, used) && used) ++open;
         }
         rtcOccluded8(valid, scene, &context, &packet);
         for (size_t lane = 0; lane < kLanes; ++lane)
@@ -470,34 +477,10 @@ size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to) co
         RTCRay4 packet;
         alignas(16) int valid[kLanes];
         for (size_t lane = 0; lane < kLanes; ++lane) {
-            valid[lane] = 0;
-            packet.org_x[lane] = static_cast<float>(from_local.x);
-            packet.org_y[lane] = static_cast<float>(from_local.y);
-            packet.org_z[lane] = static_cast<float>(from_local.z);
-            packet.dir_x[lane] = packet.dir_y[lane] = 0.0f;
-            packet.dir_z[lane] = 1.0f;
-            packet.tnear[lane] = 0.0f;
-            packet.tfar[lane] = 0.0f;
-            packet.time[lane] = 0.0f;
-            packet.mask[lane] = 0xFFFFFFFFu;
-            packet.id[lane] = static_cast<unsigned>(lane);
-            packet.flags[lane] = 0;
             const size_t k = first + lane;
-            if (k >= to.size()) continue;
-            // The arithmetic of Impl::occluded(), so each segment gets the same answer.
-            const DVec3 delta = to[k] - from;
-            const double length = glm::length(delta);
-            if (!(length > 2.0 * impl.epsilon) || !std::isfinite(length)) {
-                ++open;
-                continue;
-            }
-            const DVec3 direction = delta / length;
-            valid[lane] = -1;
-            packet.dir_x[lane] = static_cast<float>(direction.x);
-            packet.dir_y[lane] = static_cast<float>(direction.y);
-            packet.dir_z[lane] = static_cast<float>(direction.z);
-            packet.tnear[lane] = static_cast<float>(impl.epsilon);
-            packet.tfar[lane] = static_cast<float>(length - impl.epsilon);
+            const bool used = k < to.size();
+            const DVec3 delta = used ? to[k] - from : DVec3(0.0);
+            if (!setSegmentLane(packet, valid, lane, from_local, delta, impl.epsilon, used) && used) ++open;
         }
         rtcOccluded4(valid, impl.scene, &context, &packet);
         for (size_t lane = 0; lane < kLanes; ++lane)
