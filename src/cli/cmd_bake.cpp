@@ -232,6 +232,13 @@ int runBake(const BakeArgs& args) {
         diagnostics.error({args.scene, 0, 0}, "nothing to bake: the scene has no surfaces");
         return kExitInputError;
     }
+    const bool emits = std::any_of(scene->meshes.begin(), scene->meshes.end(), [&](const Mesh& m) {
+        return !m.triangles.empty() && m.material < scene->materials.size() && scene->materials[m.material].isEmitter();
+    });
+    if (!emits && scene->lights.empty())
+        diagnostics.warning({args.scene, 0, 0},
+                            "the scene has no emissive surface and no light: every baked value will be 0 "
+                            "(VRML's headlight is not baked)");
     std::vector<Probe> probes;
     if (!args.probes.empty()) {
         std::optional<std::vector<Probe>> read = readProbes(args.probes, diagnostics);

@@ -263,3 +263,20 @@ TEST_CASE("--unit-scale: a scene and its probes in centimetres give the same irr
     CHECK(rows[0][6] == doctest::Approx(4 * cornerIrradiance(0.5, 0.5, 1.0, 2.0)).epsilon(0.01));
     CHECK(rows[1][7] == doctest::Approx(cornerIrradiance(1.0, 1.0, 1.0, 2.0)).epsilon(0.01));
 }
+
+TEST_CASE("a scene with no emitter and no light bakes black, with a warning that says so") {
+    TempDir tmp;
+    writeText(tmp.path / "dark.wrl", "#VRML V2.0 utf8\nShape { geometry Box {} }\n");
+    const RunResult run = runRadbake("bake " + quote(tmp.path / "dark.wrl") + " -q --quality draft -o " + quote(tmp.path / "out"));
+    INFO(run.output);
+    CHECK(run.exit_code == 0);
+    CHECK(run.output.find("dark.wrl: warning: the scene has no emissive surface and no light") != std::string::npos);
+    CHECK(run.output.find("1 warning ") != std::string::npos);
+    // A lit scene does not get it.
+    writeText(tmp.path / "lit.wrl",
+              "#VRML V2.0 utf8\nShape { appearance Appearance { material Material { emissiveColor 1 1 1 } }"
+              " geometry Box {} }\n");
+    const RunResult lit = runRadbake("bake " + quote(tmp.path / "lit.wrl") + " -q --quality draft -o " + quote(tmp.path / "out2"));
+    CHECK(lit.exit_code == 0);
+    CHECK(lit.output.find("no emissive surface") == std::string::npos);
+}
