@@ -3,11 +3,7 @@
 
 #include <algorithm>
 
-#include <tbb/blocked_range.h>
-#include <tbb/info.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
+#include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_seams.h"
 #include "radiosity/solution.h"
 
@@ -41,24 +37,31 @@ bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane) 
 }
 
 bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face) {
+    return texelCoverage(chart, i, j, p_plane, face) > 0.0;
+}
+
+double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face) {
     const double size = 1.0 / chart.texels_per_metre;
     const DVec2 lo = chart.min_plane + DVec2(i, j) * size;
     const DVec2 hi = lo + DVec2(size);
-    double best = 0.0;
+    double best = 0.0, covered = 0.0;
     for (size_t f = 0; f < chart.faces.size(); ++f) {
         const std::vector<DVec2> piece = clipToRectangle(chart.faces[f].p_plane, lo, hi);
         if (piece.empty()) continue;
         const double area = polygonArea(piece);
+        covered += std::max(area, 0.0);
         if (area > best) {
             best = area;
             p_plane = polygonCentroid(piece);
             face = f;
         }
     }
-    return best > 0.0;
+    if (!(best > 0.0)) return 0.0;
+    return covered / ((hi.x - lo.x) * (hi.y - lo.y));
 }
 
-Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads) {
+Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads,
+                            double texel_tolerance) {
     Lightmaps lightmaps;
     lightmaps.layout = std::move(layout);
     for (const LightmapAtlas& atlas : lightmaps.layout.atlases) {
@@ -69,30 +72,12 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
         image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
         lightmaps.images.push_back(std::move(image));
     }
-    tbb::task_arena arena(threads > 0 ? threads : tbb::info::default_concurrency());
-    for (const LightmapChart& chart : lightmaps.layout.charts) {
-        if (chart.atlas < 0) continue;
-        LightmapImage& image = lightmaps.images[chart.atlas];
-        const size_t texels = static_cast<size_t>(chart.width) * chart.height;
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, texels, 64), [&](const tbb::blocked_range<size_t>& range) {
-                for (size_t t = range.begin(); t < range.end(); ++t) {
-                    const int i = static_cast<int>(t % chart.width), j = static_cast<int>(t / chart.width);
-                    DVec2 p_plane;
-                    size_t f = 0;
-                    if (!texelSamplePoint(chart, i, j, p_plane, f)) continue;
-                    const ChartFace& face = chart.faces[f];
-                    const DVec3 value = irradiance(face.worldPoint(p_plane), face.normal_world) / kPi;
-                    const size_t at = texelIndex(image, chart.x + i, chart.y + j);
-                    for (int c = 0; c < 3; ++c) image.rgb[3 * at + c] = static_cast<float>(value[c]);
-                    image.state[at] = TexelState::Covered;
-                }
-            });
-        });
-        for (int j = 0; j < chart.height; ++j)
-            for (int i = 0; i < chart.width; ++i)
-                lightmaps.evaluated_texels += image.state[texelIndex(image, chart.x + i, chart.y + j)] == TexelState::Covered;
-    }
+    const AdaptiveCounts counts =
+        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, threads);
+    lightmaps.covered_texels = counts.covered;
+    lightmaps.evaluated_texels = counts.evaluated;
+    lightmaps.interpolated_texels = counts.interpolated;
+    lightmaps.required_texels = counts.required;
     dilateLightmaps(lightmaps, padding);
     return lightmaps;
 }
@@ -146,8 +131,10 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const LightmapO
     const IrradianceFunction irradiance = [&solution](const DVec3& p, const DVec3& n) {
         return probeIrradiance(solution, p, n);
     };
-    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, solution.options.threads);
-    if (options.stitch_seams) stitchLightmaps(scene, lightmaps, irradiance, options.padding, solution.options.threads);
+    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, solution.options.threads,
+                                  options.texel_tolerance);
+    if (options.stitch_seams)
+        stitchLightmaps(scene, lightmaps, irradiance, options.padding, solution.options.threads, options.texel_tolerance);
     return true;
 }
 

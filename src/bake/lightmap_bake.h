@@ -28,6 +28,7 @@ struct StitchStats {
     size_t edge_samples = 0;     // points on chart boundaries whose bilinear lookup was fitted to the light there
     size_t seam_samples = 0;     // points where two charts of one surface meet
     size_t texels = 0;           // texels the fit could change
+    size_t evaluations = 0;      // irradiance evaluations: distinct (point, normal) pairs among the samples
     int iterations = 0;          // conjugate-gradient steps, summed over channels
     double max_seam_before = 0;  // worst |lookup A - lookup B| / max(|A|, |B|) over seam samples and channels
     double max_seam_after = 0;
@@ -37,7 +38,10 @@ struct StitchStats {
 struct Lightmaps {
     LightmapLayout layout;
     std::vector<LightmapImage> images;  // one per atlas
-    size_t evaluated_texels = 0;
+    size_t covered_texels = 0;       // texels with geometry, each evaluated or interpolated
+    size_t evaluated_texels = 0;     // irradiance evaluations at texel sample points
+    size_t interpolated_texels = 0;  // covered texels interpolated (LightmapOptions::texel_tolerance)
+    size_t required_texels = 0;      // texels evaluated whatever the light (chart edges; 0 at tolerance 0)
     StitchStats stitch;
 };
 
@@ -50,10 +54,16 @@ using IrradianceFunction = std::function<DVec3(const DVec3& p_world, const DVec3
 bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane);
 // The same, also naming the face (index into chart.faces) the point lies on.
 bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face);
+// The same point and face, returning the fraction of the texel square the chart's faces
+// cover (0 when none; 1 up to rounding inside the chart).
+double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face);
 
-// Evaluates every covered texel (value = H / pi) and dilates. `threads` <= 0: all cores.
+// Fills every covered texel (value = H / pi) and dilates. `threads` <= 0: all cores.
+// texel_tolerance <= 0 evaluates every covered texel; above 0, smooth blocks of texels are
+// interpolated from evaluated ones within that relative tolerance (lightmap_adaptive.h).
 // Each texel writes its own slot, so the images do not depend on the thread count.
-Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads);
+Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads,
+                            double texel_tolerance = 0.0);
 
 // Fills Empty texels inside each chart's padded rectangle from their filled 8-neighbours
 // (the average of those filled in the previous pass), pass after pass until the rectangle

@@ -31,6 +31,12 @@ struct LightmapOptions {
     // Fit the padding ring so that bilinear lookups along every chart edge give the light
     // there and both sides of a seam agree (lightmap_seams.h). Off: dilation only.
     bool stitch_seams = true;
+    // --texel-tolerance: a block of texels is interpolated from its corners when the texels
+    // evaluated inside it match that interpolation within this relative tolerance (or of 1%
+    // of the brightest light), and the odd edge samples of the seam fit take their
+    // neighbours' mean when those agree within it (lightmap_adaptive.h, lightmap_seams.h).
+    // 0 evaluates every texel and edge sample: the exhaustive bake.
+    double texel_tolerance = 0.02;
 };
 
 // The part of one source triangle that lies in a chart: the whole triangle (3 points) or,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <map>
 #include <set>
@@ -45,6 +46,9 @@ constexpr double kSeamWeight = 100.0;
 // Conjugate gradient: stop when the residual falls below this fraction of the right-hand side.
 constexpr double kSolveTolerance = 1e-9;
 constexpr int kMaxIterations = 2000;
+// Edge light below this fraction of the brightest is compared against it, not itself (the
+// texels' kDarkFloor, lightmap_adaptive.h).
+constexpr double kDarkEdge = 1e-2;
 
 struct BoundaryEdge {
     uint32_t chart = 0;
@@ -316,25 +320,32 @@ ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout) {
     for (const BoundaryEdge& edge : edges) {
         const LightmapChart& chart = layout.charts[edge.chart];
         const int n = sampleCount(glm::length(edge.q - edge.p) * chart.texels_per_metre);
+        bool previous_kept = false;  // sample k - 1 of this edge is the last one in result.edges
         for (int k = 0; k < n; ++k) {
             const double t = static_cast<double>(k) / (n - 1);
             const bool on_seam = std::any_of(edge.seamed.begin(), edge.seamed.end(), [t](const auto& interval) {
                 return t >= interval.first - 1e-9 && t <= interval.second + 1e-9;
             });
-            if (on_seam) continue;
+            if (on_seam) {
+                if (previous_kept && (k % 2) == 0) result.edges.back().between = false;  // its next sample is missing
+                previous_kept = false;
+                continue;
+            }
             EdgeSample sample = edgeSample(chart, edge, t);
+            sample.between = previous_kept && (k % 2) == 1 && k + 1 < n;
             if (k == 0 || k == n - 1) {
                 const auto it = seam_ends.find(pointKey(edge.chart, sample.p_world));
                 if (it != seam_ends.end()) sample.seam = it->second;
             }
             result.edges.push_back(sample);
+            previous_kept = true;
         }
     }
     return result;
 }
 
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
-                            int threads) {
+                            int threads, double tolerance) {
     StitchStats stats;
     if (padding < 1 || lightmaps.images.empty()) {
         lightmaps.stitch = stats;
@@ -352,14 +363,59 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
         queries.push_back(&s.a);
         queries.push_back(&s.b);
     }
-    std::vector<DVec3> light(queries.size());
+    // A point seen with one normal is evaluated once: both sides of a cut through a flat
+    // region, and the shared ends of consecutive boundary edges, ask for the same light.
+    // With a tolerance, samples between two others wait for them (second pass).
+    const auto deferred = [&](size_t q) { return tolerance > 0.0 && q < found.edges.size() && found.edges[q].between; };
+    std::map<std::array<double, 6>, size_t> distinct_ids;  // ordered: first-seen order is deterministic
+    std::vector<size_t> distinct_of(queries.size(), SIZE_MAX);
+    std::vector<const EdgeSample*> distinct;
+    for (size_t q = 0; q < queries.size(); ++q) {
+        if (deferred(q)) continue;
+        const DVec3& p = queries[q]->p_world;
+        const DVec3& n = queries[q]->normal_world;
+        const auto [it, added] = distinct_ids.emplace(std::array<double, 6>{p.x, p.y, p.z, n.x, n.y, n.z}, distinct.size());
+        if (added) distinct.push_back(queries[q]);
+        distinct_of[q] = it->second;
+    }
     tbb::task_arena arena(threads > 0 ? threads : tbb::info::default_concurrency());
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
-            for (size_t q = range.begin(); q < range.end(); ++q)
-                light[q] = irradiance(queries[q]->p_world, queries[q]->normal_world) / kPi;
+    const auto evaluate = [&](const std::vector<const EdgeSample*>& points, std::vector<DVec3>& out) {
+        out.resize(points.size());
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+                for (size_t q = range.begin(); q < range.end(); ++q)
+                    out[q] = irradiance(points[q]->p_world, points[q]->normal_world) / kPi;
+            });
         });
-    });
+    };
+    std::vector<DVec3> distinct_light;
+    evaluate(distinct, distinct_light);
+    std::vector<DVec3> light(queries.size());
+    for (size_t q = 0; q < queries.size(); ++q)
+        if (!deferred(q)) light[q] = distinct_light[distinct_of[q]];
+    stats.evaluations = distinct.size();
+    if (tolerance > 0.0) {
+        double brightest_edge = 0.0;
+        for (const DVec3& l : distinct_light) brightest_edge = std::max({brightest_edge, l.x, l.y, l.z});
+        const double dark = kDarkEdge * brightest_edge;
+        std::vector<size_t> rest;
+        for (size_t q = 0; q < found.edges.size(); ++q) {
+            if (!deferred(q)) continue;
+            const DVec3 &before = light[q - 1], &after = light[q + 1];
+            bool agree = true;
+            for (int c = 0; c < 3; ++c)
+                agree = agree && std::fabs(before[c] - after[c]) <=
+                                     tolerance * std::max(0.5 * std::fabs(before[c] + after[c]), dark);
+            if (agree) light[q] = 0.5 * (before + after);
+            else rest.push_back(q);
+        }
+        std::vector<const EdgeSample*> points;
+        for (size_t q : rest) points.push_back(queries[q]);
+        std::vector<DVec3> rest_light;
+        evaluate(points, rest_light);
+        for (size_t k = 0; k < rest.size(); ++k) light[rest[k]] = rest_light[k];
+        stats.evaluations += rest.size();
+    }
     double brightest = 0.0;
     for (const DVec3& l : light) brightest = std::max({brightest, l.x, l.y, l.z});
     const double floor = std::max(1e-6 * brightest, 1e-30);  // relative gaps in the dark are measured against this

@@ -26,6 +26,9 @@ struct EdgeSample {
     // For a boundary point at the end of a seam (a chart corner on the seam): the seam sample
     // there, whose light (the mean over the faces meeting) it takes; -1 otherwise.
     int64_t seam = -1;
+    // Midway along one straight boundary edge between the samples just before and after it
+    // in ChartEdges::edges (odd samples of an edge): where their light agrees, it takes their mean.
+    bool between = false;
 };
 
 // A point where two charts of one surface meet, seen from both.
@@ -48,10 +51,13 @@ ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout);
 DVec3 bilinearLookup(const LightmapImage& image, const DVec2& texel);
 
 // Fits the texels under the edge and seam lookups (see the top of this file); values are
-// H / pi from `irradiance`. Sequential solve over a parallel gather: the result does not
-// depend on `threads`. Needs padding >= 1 (a lookup on an edge reads one padding ring);
-// does nothing otherwise. Fills and returns lightmaps.stitch.
+// H / pi from `irradiance`, evaluated once per distinct (point, normal). tolerance > 0: an
+// edge sample `between` two whose light agrees within that relative tolerance (or 1% of the
+// brightest edge light) takes their mean instead of an evaluation (about one evaluation per
+// texel of edge where the light is smooth). Sequential solve over a parallel gather: the
+// result does not depend on `threads`. Needs padding >= 1 (a lookup on an edge reads one
+// padding ring); does nothing otherwise. Fills and returns lightmaps.stitch.
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
-                            int threads);
+                            int threads, double tolerance = 0.0);
 
 }  // namespace radbake

@@ -20,6 +20,16 @@ RgbImage toRgbImage(const LightmapImage& image) {
 
 }  // namespace
 
+double texelToleranceFor(Quality quality) {
+    switch (quality) {
+        case Quality::Draft: return 0.05;
+        case Quality::Medium: return 0.02;
+        case Quality::High: return 0.01;
+        case Quality::Reference: return 0.0;
+    }
+    return 0.0;
+}
+
 bool bakeSceneLightmaps(const Scene& scene, const Solution& solution, const LightmapArgs& args, float unit_scale,
                         BakedLightmaps& baked, LightmapReport& report, Diagnostics& diagnostics) {
     LightmapOptions options;
@@ -28,6 +38,7 @@ bool bakeSceneLightmaps(const Scene& scene, const Solution& solution, const Ligh
         args.texel_density > 0.0 ? args.texel_density / static_cast<double>(unit_scale) : kDefaultTexelsPerMetre;
     options.atlas_size = args.atlas_size;
     options.padding = args.padding;
+    options.texel_tolerance = args.texel_tolerance;
     if (!bakeLightmaps(scene, solution, options, baked.lightmaps, diagnostics)) return false;
     const LightmapLayout& layout = baked.lightmaps.layout;
     baked.files.meshes = lightmapMeshes(scene, layout);
@@ -44,7 +55,9 @@ bool bakeSceneLightmaps(const Scene& scene, const Solution& solution, const Ligh
     report.atlas_texels = 0;
     for (const LightmapAtlas& atlas : layout.atlases)
         report.atlas_texels += static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
-    report.covered_texels = baked.lightmaps.evaluated_texels;
+    report.covered_texels = baked.lightmaps.covered_texels;
+    report.interpolated_texels = baked.lightmaps.interpolated_texels;
+    report.texel_tolerance = options.texel_tolerance;
     report.occupancy = layout.occupancy;
     return true;
 }

@@ -12,6 +12,7 @@
 #include "export/lightmap_files.h"
 #include "export/output_transaction.h"
 #include "export/stats_json.h"
+#include "radiosity/solver.h"
 #include "scene/scene.h"
 
 namespace radbake::cli {
@@ -26,7 +27,14 @@ struct LightmapArgs {
     int atlas_size = 1024;       // --atlas-size
     int padding = 2;             // --padding
     bool exr_float = false;      // --exr-float
+    double texel_tolerance = 0.0;  // --texel-tolerance, or the quality's (texelToleranceFor)
 };
+
+// The --texel-tolerance of each --quality: a block of texels is interpolated from evaluated
+// ones when they agree within this (0: every texel evaluated). Measured in the issue 5 note:
+// at 0.02 the RMS texel error against exhaustive evaluation is 0.1-1 %, the worst texel up to
+// 17 % at 64 texels/m, for 1.2-5x less time.
+double texelToleranceFor(Quality quality);
 
 struct BakedLightmaps {
     Lightmaps lightmaps;

@@ -54,6 +54,7 @@ struct BakeArgs {
     CLI::Option* min_area_option = nullptr;
     CLI::Option* tolerance_option = nullptr;
     CLI::Option* max_iterations_option = nullptr;
+    CLI::Option* texel_tolerance_option = nullptr;
 };
 
 const std::vector<std::pair<std::string, Quality>> kQualities = {
@@ -122,7 +123,8 @@ std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Pr
 
 // What an EXR header records of the bake: enough to tell which scene and settings made it.
 // Nothing here depends on the thread count or the clock, so outputs stay byte-identical.
-std::vector<std::pair<std::string, std::string>> provenance(const BakeArgs& args, const SolverOptions& options,
+std::vector<std::pair<std::string, std::string>> provenance(const BakeArgs& args, const LightmapArgs& lightmaps,
+                                                            const SolverOptions& options,
                                                             const std::string& scene_sha256) {
     const double texel_density = args.lightmaps.texel_density > 0.0
                                      ? args.lightmaps.texel_density
@@ -130,11 +132,11 @@ std::vector<std::pair<std::string, std::string>> provenance(const BakeArgs& args
     char knobs[512];
     std::snprintf(knobs, sizeof knobs,
                   "quality=%s visibility=%s error_threshold=%g local_error_threshold=%g min_area=%g tolerance=%g max_iterations=%d "
-                  "unit_scale=%g emission_scale=%g texel_density=%g atlas_size=%d padding=%d",
+                  "unit_scale=%g emission_scale=%g texel_density=%g atlas_size=%d padding=%d texel_tolerance=%g",
                   toString(options.quality), toString(options.visibility), options.error_threshold,
                   options.local_error_threshold, options.min_element_area, options.iteration_tolerance, options.max_iterations,
                   static_cast<double>(args.import.unit_scale), static_cast<double>(args.import.emission_scale),
-                  texel_density, args.lightmaps.atlas_size, args.lightmaps.padding);
+                  texel_density, lightmaps.atlas_size, lightmaps.padding, lightmaps.texel_tolerance);
     return {{"radbake:version", kGenerator},
             {"radbake:scene", std::filesystem::path(args.scene).filename().string()},
             {"radbake:scene_sha256", scene_sha256},
@@ -146,6 +148,8 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
                   OutputTransaction& transaction, Progress& progress, Diagnostics& diagnostics,
                   BakeReport& report) {
     report.options = solverOptions(args);
+    LightmapArgs lightmap_args = args.lightmaps;
+    if (!args.texel_tolerance_option->count()) lightmap_args.texel_tolerance = texelToleranceFor(report.options.quality);
 
     progress.beginPhase("parts");
     const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
@@ -162,7 +166,7 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
     BakedLightmaps baked;
     if (!args.lightmaps.skip) {
         progress.beginPhase("lightmaps");
-        if (!bakeSceneLightmaps(scene, *solution, args.lightmaps, args.import.unit_scale, baked, report.lightmaps,
+        if (!bakeSceneLightmaps(scene, *solution, lightmap_args, args.import.unit_scale, baked, report.lightmaps,
                                 diagnostics))
             return false;
     }
@@ -190,7 +194,7 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
     if (!args.lightmaps.skip) {
         const std::optional<std::string> scene_hash = sha256File(args.scene, diagnostics);
         if (!scene_hash) return false;
-        if (!stageLightmapExrs(transaction, baked, provenance(args, report.options, *scene_hash),
+        if (!stageLightmapExrs(transaction, baked, provenance(args, lightmap_args, report.options, *scene_hash),
                                args.lightmaps.exr_float, diagnostics))
             return false;
     }
@@ -360,6 +364,12 @@ void addBakeCommand(CLI::App& app, int& result) {
                     "Texels around every chart, filled by dilation, so bilinear filtering never reads a neighbour")
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
+    args->texel_tolerance_option =
+        cmd->add_option("--texel-tolerance", args->lightmaps.texel_tolerance,
+                        "Interpolate a block of lightmap texels when the texels evaluated in it agree within this "
+                        "fraction (0: evaluate every texel); default: from --quality (draft 0.05, medium 0.02, "
+                        "high 0.01, reference 0)")
+            ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
     cmd->add_flag("--preview", args->preview,
                   "Also write preview/: a tone-mapped PNG of each atlas and a view of the baked scene");

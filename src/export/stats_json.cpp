@@ -74,6 +74,8 @@ std::string formatStatsJson(const BakeReport& r) {
         out += "  \"atlases\": " + std::to_string(l.atlases) + ",\n";
         out += "  \"atlas_texels\": " + std::to_string(l.atlas_texels) + ",\n";
         out += "  \"covered_texels\": " + std::to_string(l.covered_texels) + ",\n";
+        out += "  \"interpolated_texels\": " + std::to_string(l.interpolated_texels) + ",\n";
+        out += "  \"texel_tolerance\": " + num(l.texel_tolerance) + ",\n";
         out += "  \"occupancy\": " + num(l.occupancy) + ",\n";
     }
     out += "  \"warnings\": " + std::to_string(r.warnings) + "\n";

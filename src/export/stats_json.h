@@ -18,7 +18,9 @@ struct LightmapReport {
     int padding = 0;
     size_t charts = 0, atlases = 0;
     size_t atlas_texels = 0;       // texels of every atlas together
-    size_t covered_texels = 0;     // texels evaluated from the solution
+    size_t covered_texels = 0;     // texels with geometry (the rest is padding or empty)
+    size_t interpolated_texels = 0;  // covered texels interpolated from evaluated ones (--texel-tolerance)
+    double texel_tolerance = 0.0;
     double occupancy = 0.0;        // chart texels (padding excluded) / atlas texels
 };
 

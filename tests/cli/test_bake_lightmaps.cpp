@@ -73,7 +73,8 @@ TEST_CASE("bake writes EXR lightmaps with provenance, TEXCOORD_1, and a manifest
     CHECK(attribute(*atlas, "radbake:scene_sha256") == radbake::sha256File(tmp.path / "lamp.obj", diagnostics).value());
     CHECK(attribute(*atlas, "radbake:version").find("radbake ") == 0);
     CHECK(attribute(*atlas, "radbake:options").find("quality=medium visibility=exact") == 0);
-    CHECK(attribute(*atlas, "radbake:options").find("texel_density=16 atlas_size=1024 padding=2") != std::string::npos);
+    CHECK(attribute(*atlas, "radbake:options").find("texel_density=16 atlas_size=1024 padding=2 texel_tolerance=0.02") !=
+          std::string::npos);
     CHECK(attribute(*atlas, "radbake:atlas") == "0 of 1");
 
     // The brightest floor texel is near the centre below the lamp: H/pi there from the closed
@@ -108,6 +109,9 @@ TEST_CASE("bake writes EXR lightmaps with provenance, TEXCOORD_1, and a manifest
     CHECK(stats["occupancy"].num() > 0.0);
     CHECK(stats["occupancy"].num() <= 1.0);
     CHECK(stats["phases"].has("lightmaps"));
+    CHECK(stats["texel_tolerance"].num() == 0.02);  // medium's
+    CHECK(stats["covered_texels"].num() > 0);
+    CHECK(stats["interpolated_texels"].num() <= stats["covered_texels"].num());
 }
 
 TEST_CASE("a re-bake with fewer atlases, then --no-lightmaps, leaves no stale lightmaps") {
@@ -149,6 +153,7 @@ TEST_CASE("--exr-float writes 32-bit lightmaps; --preview writes PNGs of the vie
     const std::optional<radbake::RgbImage> atlas = radbake::readExr(out / "lightmaps" / "lamp_0.exr", diagnostics);
     REQUIRE(atlas);
     CHECK_FALSE(atlas->half);
+    CHECK(minijson::parse(readBytes(out / "stats.json"))["texel_tolerance"].num() == 0.05);  // draft's
     for (const char* name : {"preview/lamp_view.png", "preview/lamp_atlas_0.png"}) {
         const std::string png = readBytes(out / name);
         REQUIRE_MESSAGE(png.size() > 24, name);

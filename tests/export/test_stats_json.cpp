@@ -63,6 +63,8 @@ TEST_CASE("stats.json reports the lightmap stage only when it ran") {
     report.lightmaps.atlas_texels = 5000;
     report.lightmaps.covered_texels = 1234;
     report.lightmaps.occupancy = 0.25;
+    report.lightmaps.interpolated_texels = 1000;
+    report.lightmaps.texel_tolerance = 0.02;
     const minijson::Value json = minijson::parse(formatStatsJson(report));
     CHECK(json["lightmaps"].boolean);
     CHECK(json["texel_density"].num() == 16.0);
@@ -73,4 +75,6 @@ TEST_CASE("stats.json reports the lightmap stage only when it ran") {
     CHECK(json["atlas_texels"].num() == 5000);
     CHECK(json["covered_texels"].num() == 1234);
     CHECK(json["occupancy"].num() == 0.25);
+    CHECK(json["interpolated_texels"].num() == 1000);
+    CHECK(json["texel_tolerance"].num() == 0.02);
 }

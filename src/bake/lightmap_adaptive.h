@@ -1,0 +1,42 @@
+#pragma once
+// Adaptive texel evaluation (issue 5): most of a lightmap is smooth light, where evaluating
+// every texel with probeIrradiance is wasted work. Each chart is evaluated on a coarse
+// lattice first (every kCoarsestStep-th texel); a block between four evaluated lattice
+// texels that holds no partly covered texel (no chart edge crosses it) is tested at its
+// centre and edge midpoints: when every texel evaluated inside it lies within the tolerance
+// of the bilinear interpolation of its corners (and the corners differ by less than half their light),
+// its other texels are interpolated at their own sample points; otherwise it is split in
+// four, its test points being the new corners, down to every texel. Partly covered texels
+// and their 8 neighbours (the texels bilinear lookups on chart edges read, which the seam
+// fit adjusts) are always evaluated. A smooth edge inside a chart (faces with different
+// normals see different light) is a step like a shadow edge: the test points find it.
+#include <cstddef>
+#include <vector>
+
+#include "bake/lightmap_bake.h"
+
+namespace radbake {
+
+// The coarsest lattice step in texels (blocks of 8 x 8 texels at most).
+inline constexpr int kCoarsestStep = 8;
+// Below this fraction of the brightest light evaluated on the coarse lattice, the tolerance
+// is measured against this level instead of the local light: errors that small are not
+// visible next to the bright parts, and relative agreement in near-black would force every
+// dark texel to be evaluated.
+inline constexpr double kDarkFloor = 1e-2;
+
+struct AdaptiveCounts {
+    size_t covered = 0;       // texels with geometry (all filled, evaluated or interpolated)
+    size_t evaluated = 0;     // irradiance evaluations at texel sample points
+    size_t interpolated = 0;  // covered texels filled by bilinear interpolation
+    size_t required = 0;      // texels evaluated whatever the light: partly covered or beside one
+};
+
+// Fills the covered texels of every placed chart (state Covered, value H / pi) and leaves
+// the rest Empty. tolerance <= 0: every covered texel is evaluated, exactly as
+// evaluateLightmaps always did. Decisions depend only on evaluated values and run level by
+// level; each evaluation writes its own slot: the result does not depend on `threads`.
+AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
+                                      const IrradianceFunction& irradiance, double tolerance, int threads);
+
+}  // namespace radbake
