@@ -1,6 +1,9 @@
 // Lightmap, preview and manifest outputs of `radbake bake`.
 #include "cli/bake_outputs.h"
 
+#include <cmath>
+#include <cstdio>
+
 #include "export/exr_io.h"
 #include "export/preview.h"
 
@@ -18,6 +21,12 @@ RgbImage toRgbImage(const LightmapImage& image) {
     return out;
 }
 
+std::string formatNumber(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.3g", value);
+    return buffer;
+}
+
 }  // namespace
 
 double texelToleranceFor(Quality quality) {
@@ -30,12 +39,61 @@ double texelToleranceFor(Quality quality) {
     return 0.0;
 }
 
+size_t chartTexels(const Scene& scene, const LightmapOptions& options) {
+    size_t texels = 0;
+    for (const LightmapChart& chart : buildLightmapCharts(scene, options))
+        texels += static_cast<size_t>(chart.width) * static_cast<size_t>(chart.height);
+    return texels;
+}
+
+bool chooseTexelDensity(const Scene& scene, LightmapArgs& args, float unit_scale, Diagnostics& diagnostics) {
+    const double per_unit = static_cast<double>(unit_scale);
+    LightmapOptions options;
+    options.atlas_size = args.atlas_size;
+    options.padding = args.padding;
+    // The imported scene is in metres; the option counts texels per scene unit.
+    options.texel_density = args.texel_density > 0.0 ? args.texel_density / per_unit : kDefaultTexelsPerMetre;
+    const size_t wanted = chartTexels(scene, options);
+    size_t texels = wanted;
+    if (texels > args.max_texels && args.texel_density > 0.0) {
+        const double fits = args.texel_density * std::sqrt(static_cast<double>(args.max_texels) / texels);
+        diagnostics.error({scene.source_path, 0, 0},
+                          "lightmaps at --texel-density " + formatNumber(args.texel_density) + " need " +
+                              std::to_string(texels) + " texels, above --max-texels " +
+                              std::to_string(args.max_texels) + ": give a density of about " + formatNumber(fits) +
+                              " or less, or raise --max-texels");
+        return false;
+    }
+    // Texels grow with the square of the density; the minimum chart size keeps tiny charts
+    // from shrinking, so step down until the charts fit (or the density cannot help).
+    for (int step = 0; texels > args.max_texels && step < 8; ++step) {
+        options.texel_density *= 0.97 * std::sqrt(static_cast<double>(args.max_texels) / texels);
+        texels = chartTexels(scene, options);
+    }
+    if (texels > args.max_texels) {
+        diagnostics.error({scene.source_path, 0, 0},
+                          "lightmaps need " + std::to_string(texels) + " texels even at " +
+                              formatNumber(options.texel_density * per_unit) +
+                              " texels per unit, above --max-texels " + std::to_string(args.max_texels) +
+                              " (too many small charts): raise --max-texels or bake with --no-lightmaps");
+        return false;
+    }
+    if (texels != wanted)
+        diagnostics.warning({scene.source_path, 0, 0},
+                            "lightmaps at the default " + formatNumber(kDefaultTexelsPerMetre) +
+                                " texels per metre would need " + std::to_string(wanted) +
+                                " texels, above --max-texels " + std::to_string(args.max_texels) + ": baked at " +
+                                formatNumber(options.texel_density * per_unit) +
+                                " texels per unit instead (" + std::to_string(texels) +
+                                " texels); --texel-density or --max-texels choose otherwise");
+    args.texels_per_metre = options.texel_density;
+    return true;
+}
+
 bool bakeSceneLightmaps(const Scene& scene, const Solution& solution, const LightmapArgs& args, float unit_scale,
                         BakedLightmaps& baked, LightmapReport& report, Diagnostics& diagnostics) {
     LightmapOptions options;
-    // The imported scene is in metres; the option counts texels per scene unit.
-    options.texel_density =
-        args.texel_density > 0.0 ? args.texel_density / static_cast<double>(unit_scale) : kDefaultTexelsPerMetre;
+    options.texel_density = args.texels_per_metre;
     options.atlas_size = args.atlas_size;
     options.padding = args.padding;
     options.texel_tolerance = args.texel_tolerance;

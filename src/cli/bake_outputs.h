@@ -28,7 +28,16 @@ struct LightmapArgs {
     int padding = 2;             // --padding
     bool exr_float = false;      // --exr-float
     double texel_tolerance = 0.0;  // --texel-tolerance, or the quality's (texelToleranceFor)
+    size_t max_texels = size_t{1} << 22;  // --max-texels: chart texels of the whole bake (4 full 1024^2 atlases)
+    double texels_per_metre = 0.0;  // resolved by chooseTexelDensity
 };
+
+// Resolves args.texels_per_metre before the solve, from --texel-density (or the default) and
+// --max-texels: the chart texels (padding excluded) must fit the budget, since every texel
+// costs an evaluation of the solution (about a millisecond). Over budget, the default density
+// is lowered until the charts fit, with a warning; a density the user gave is an error naming
+// one that fits. False after reporting.
+bool chooseTexelDensity(const Scene& scene, LightmapArgs& args, float unit_scale, Diagnostics& diagnostics);
 
 // The --texel-tolerance of each --quality: a block of texels is interpolated from evaluated
 // ones when they agree within this (0: every texel evaluated). Measured in the issue 5 note:

@@ -126,9 +126,7 @@ std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Pr
 std::vector<std::pair<std::string, std::string>> provenance(const BakeArgs& args, const LightmapArgs& lightmaps,
                                                             const SolverOptions& options,
                                                             const std::string& scene_sha256) {
-    const double texel_density = args.lightmaps.texel_density > 0.0
-                                     ? args.lightmaps.texel_density
-                                     : kDefaultTexelsPerMetre * static_cast<double>(args.import.unit_scale);
+    const double texel_density = lightmaps.texels_per_metre * static_cast<double>(args.import.unit_scale);
     char knobs[512];
     std::snprintf(knobs, sizeof knobs,
                   "quality=%s visibility=%s error_threshold=%g local_error_threshold=%g min_area=%g tolerance=%g max_iterations=%d "
@@ -150,6 +148,9 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
     report.options = solverOptions(args);
     LightmapArgs lightmap_args = args.lightmaps;
     if (!args.texel_tolerance_option->count()) lightmap_args.texel_tolerance = texelToleranceFor(report.options.quality);
+    // Before the solve: a lightmap budget error should not cost a solve first.
+    if (!lightmap_args.skip && !chooseTexelDensity(scene, lightmap_args, args.import.unit_scale, diagnostics))
+        return false;
 
     progress.beginPhase("parts");
     const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
@@ -370,6 +371,11 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "fraction (0: evaluate every texel); default: from --quality (draft 0.05, medium 0.02, "
                         "high 0.01, reference 0)")
             ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--max-texels", args->lightmaps.max_texels,
+                    "Most lightmap texels (charts, padding excluded) a bake may evaluate; over it the default "
+                    "density is lowered with a warning, a given --texel-density is an error")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
     cmd->add_flag("--preview", args->preview,
                   "Also write preview/: a tone-mapped PNG of each atlas and a view of the baked scene");

@@ -164,7 +164,7 @@ TEST_CASE("--help shows every knob with its default") {
     for (const char* option : {"--quality", "--visibility", "--threads", "--probes", "--unit-scale", "--emission-scale",
                                "--error-threshold", "--local-error-threshold", "--min-area", "--tolerance", "--max-iterations", "--strict",
                                "--quiet", "baked/<scene name>/", "--no-lightmaps", "--texel-density", "--atlas-size",
-                               "--padding", "--exr-float", "--preview", "--texel-tolerance"})
+                               "--padding", "--exr-float", "--preview", "--texel-tolerance", "--max-texels"})
         CHECK_MESSAGE(run.output.find(option) != std::string::npos, option);
     CHECK(run.output.find("default: from --quality (draft ") != std::string::npos);
 }

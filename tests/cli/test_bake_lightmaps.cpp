@@ -172,3 +172,26 @@ TEST_CASE("--exr-float writes 32-bit lightmaps; --preview writes PNGs of the vie
         }
     }
 }
+
+TEST_CASE("--max-texels: the default density is lowered to fit, with a warning; a given density over it is an error") {
+    TempDir tmp;
+    writeLampScene(tmp.path);
+    // At 16 texels per metre the 4 x 4 m floor alone has 64 x 64 texels.
+    const std::string scene = "bake " + quote(tmp.path / "lamp.obj") + " -q --quality draft --max-texels 1000";
+    const RunResult lowered = runRadbake(scene + " -o " + quote(tmp.path / "a"));
+    INFO(lowered.output);
+    REQUIRE(lowered.exit_code == 0);
+    CHECK(lowered.output.find("warning: lightmaps at the default 16 texels per metre would need 4352 texels, above "
+                              "--max-texels 1000") != std::string::npos);
+    const minijson::Value stats = minijson::parse(readBytes(tmp.path / "a" / "stats.json"));
+    CHECK(stats["texel_density"].num() < 16.0 * std::sqrt(1000.0 / 4352.0));
+    CHECK(stats["texel_density"].num() > 0.8 * 16.0 * std::sqrt(1000.0 / 4352.0));
+    CHECK(stats["covered_texels"].num() <= 1000);
+
+    const RunResult refused = runRadbake(scene + " --texel-density 16 -o " + quote(tmp.path / "b"));
+    INFO(refused.output);
+    CHECK(refused.exit_code == 1);
+    CHECK(refused.output.find("error: lightmaps at --texel-density 16 need 4352 texels, above --max-texels 1000: give "
+                              "a density of about 7.67 or less") != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp.path / "b"));
+}
