@@ -9,32 +9,15 @@
 
 #include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_bake.h"
+#include "lightmap_test_scenes.h"
 
 using namespace radbake;
+using lightmap_test::sceneOf;
 
 namespace {
 
-Mesh polygonMesh(const std::vector<Vec3>& loop) {
-    Mesh mesh;
-    mesh.positions = loop;
-    for (uint32_t k = 1; k + 1 < loop.size(); ++k) {
-        mesh.triangles.push_back({0, k, k + 1});
-        mesh.triangle_polygon.push_back(0);
-    }
-    mesh.polygon_count = 1;
-    return mesh;
-}
-
-Scene sceneOf(std::vector<Mesh> meshes) {
-    Scene scene;
-    scene.materials.resize(meshes.size());
-    for (uint32_t m = 0; m < meshes.size(); ++m) meshes[m].material = m;
-    scene.meshes = std::move(meshes);
-    return scene;
-}
-
 // A 4 m x 4 m floor facing +Y (two triangles), 64 x 64 texels at 16 texels/m.
-Scene floorScene() { return sceneOf({polygonMesh({{0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}})}); }
+Scene floorScene() { return sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}})}); }
 
 LightmapLayout layoutOf(const Scene& scene, double density) {
     LightmapOptions options;
@@ -71,8 +54,8 @@ double worstOverTolerance(const Lightmaps& adaptive, const Lightmaps& exhaustive
 
 TEST_CASE("tolerance 0 gives the exhaustive texels bit for bit") {
     // A triangle (partly covered texels along the hypotenuse) and a wall, a curved field.
-    const Scene scene = sceneOf({polygonMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 0}}),
-                                 polygonMesh({{0, 0, 0}, {0, 2, 0}, {0, 2, 2}, {0, 0, 2}})});
+    const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 0}}),
+                                 lightmap_test::polygonMesh({{0, 0, 0}, {0, 2, 0}, {0, 2, 2}, {0, 0, 2}})});
     const IrradianceFunction field = [](const DVec3& p, const DVec3& n) {
         return kPi * DVec3(1.0 + std::sin(3.0 * p.x) * p.z, 0.5 + n.x, std::exp(-p.y));
     };
@@ -165,7 +148,7 @@ TEST_CASE("a sharp shadow edge is resolved texel by texel") {
 
 TEST_CASE("partly covered texels are always evaluated, whatever the field") {
     // A triangle floor: its hypotenuse crosses a texel row diagonally.
-    const Scene scene = sceneOf({polygonMesh({{0, 0, 0}, {0, 0, 3}, {4, 0, 0}})});
+    const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 3}, {4, 0, 0}})});
     const LightmapLayout layout = layoutOf(scene, 16.0);
     REQUIRE(layout.charts.size() == 1);
     std::set<std::array<double, 3>> evaluated;

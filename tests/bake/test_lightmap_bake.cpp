@@ -7,29 +7,12 @@
 #include <cmath>
 
 #include "bake/lightmap_bake.h"
+#include "lightmap_test_scenes.h"
 
 using namespace radbake;
+using lightmap_test::sceneOf;
 
 namespace {
-
-Mesh quadMesh(const std::vector<Vec3>& loop) {
-    Mesh mesh;
-    mesh.positions = loop;
-    for (uint32_t k = 1; k + 1 < loop.size(); ++k) {
-        mesh.triangles.push_back({0, k, k + 1});
-        mesh.triangle_polygon.push_back(0);
-    }
-    mesh.polygon_count = 1;
-    return mesh;
-}
-
-Scene sceneOf(std::vector<Mesh> meshes) {
-    Scene scene;
-    scene.materials.resize(meshes.size());
-    for (uint32_t m = 0; m < meshes.size(); ++m) meshes[m].material = m;
-    scene.meshes = std::move(meshes);
-    return scene;
-}
 
 Lightmaps bake(const Scene& scene, const LightmapOptions& options, const IrradianceFunction& f, int threads = 0) {
     LightmapLayout layout;
@@ -53,7 +36,7 @@ bool insideTriangle(const DVec2& p, const std::vector<DVec2>& t) {
 
 TEST_CASE("covered texels hold H/pi at a point of their own triangle and square") {
     // A triangle floor facing +Y, 3 m by 2 m: half its chart rectangle is empty.
-    const Scene scene = sceneOf({quadMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 0}})});
+    const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 0}})});
     LightmapOptions options;
     options.texel_density = 8.0;
     options.padding = 2;
@@ -112,8 +95,8 @@ TEST_CASE("covered texels hold H/pi at a point of their own triangle and square"
 
 TEST_CASE("dilation fills every padding texel from its own chart only") {
     // Two unit squares far apart, facing +Y and -Y, lit 1 and 5: no bleeding either way.
-    const Scene scene = sceneOf({quadMesh({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}),
-                                 quadMesh({{5, 0, 0}, {6, 0, 0}, {6, 0, 1}, {5, 0, 1}})});
+    const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}),
+                                 lightmap_test::polygonMesh({{5, 0, 0}, {6, 0, 0}, {6, 0, 1}, {5, 0, 1}})});
     LightmapOptions options;
     options.texel_density = 6.0;
     options.padding = 3;
@@ -139,8 +122,8 @@ TEST_CASE("dilation fills every padding texel from its own chart only") {
 }
 
 TEST_CASE("texels do not depend on the thread count") {
-    const Scene scene = sceneOf({quadMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 2}, {3, 0, 0}}),
-                                 quadMesh({{0, 0, 0}, {0, 2, 0}, {0, 2, 2}, {0, 0, 2}})});
+    const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 2}, {3, 0, 0}}),
+                                 lightmap_test::polygonMesh({{0, 0, 0}, {0, 2, 0}, {0, 2, 2}, {0, 0, 2}})});
     LightmapOptions options;
     options.texel_density = 10.0;
     const Lightmaps one = bake(scene, options, linearField, 1);

@@ -10,8 +10,10 @@
 #include "bake/lightmap_seams.h"
 #include "bake/vertex_bake.h"
 #include "../radiosity/test_scenes.h"
+#include "lightmap_test_scenes.h"
 
 using namespace radbake;
+using lightmap_test::sceneOf;
 
 namespace {
 
@@ -22,14 +24,6 @@ Mesh floorMesh(float size_x, float size_z) {
     mesh.triangle_polygon = {0, 0};
     mesh.polygon_count = 1;
     return mesh;
-}
-
-Scene sceneOf(std::vector<Mesh> meshes) {
-    Scene scene;
-    scene.materials.resize(meshes.size());
-    for (uint32_t m = 0; m < meshes.size(); ++m) meshes[m].material = m;
-    scene.meshes = std::move(meshes);
-    return scene;
 }
 
 // H / pi = 1 + 4 x + 3 z + 2 x z: steep, not linear, but linear along every axis-aligned
