@@ -174,6 +174,21 @@ Far { x 2 }
     CHECK(r.has("scene.wrl:3:13: warning: EXTERNPROTO Far is not a local file"));
 }
 
+TEST_CASE("vrml97: EXTERNPROTO from an X3D classic (.x3dv) file is used") {
+    const auto dir = tempDir("externproto_x3dv");
+    writeFile(dir / "protos.x3dv", "#X3D V3.3 utf8\nPROFILE Interchange\n"
+                                   "PROTO Slab [ field SFVec3f size 4 1 4 ] { Shape { geometry Box { size IS size } } }\n");
+    const std::string path = writeFile(dir / "scene.wrl", "#VRML V2.0 utf8\n"
+                                                          "EXTERNPROTO Slab [ field SFVec3f size ] \"protos.x3dv#Slab\"\n"
+                                                          "Slab { size 1 2 3 }\n");
+    Read r = readPath(path);
+    INFO(r.messages());
+    CHECK(r.ok);
+    REQUIRE(r.scene.meshes.size() == 1);
+    CHECK(r.area() == doctest::Approx(2 * (2 + 6 + 3)));
+    CHECK_FALSE(r.has("not a VRML97 file"));
+}
+
 TEST_CASE("vrml97: Inline with a relative URL is placed by the current matrix") {
     const auto dir = tempDir("inline");
     writeFile(dir / "Parts" / "Quad.WRL", std::string("#VRML V2.0 utf8\n") + kQuad + "PointLight { location 1 0 0 }\n");

@@ -509,7 +509,7 @@ void Vrml97Parser::resolveExternProto(ProtoDef& proto, const std::vector<std::st
         }
         const std::optional<std::string> text = loadText(*resolved, loc(at), diagnostics_);
         if (!text) return;
-        if (!text->starts_with("#VRML V2.0")) {
+        if (!isVrml97Text(*text)) {
             diagnostics_.warning(loc(at), "EXTERNPROTO " + proto.name + ": " + *resolved + " is not a VRML97 file; skipped");
             return;
         }

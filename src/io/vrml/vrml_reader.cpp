@@ -207,13 +207,18 @@ std::optional<std::string> resolveUrl(const std::string& base_file, const std::s
     return caseInsensitiveResolve(base, target).lexically_normal().string();
 }
 
+bool isVrml97Text(std::string_view text) {
+    if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+    return text.starts_with("#VRML V2.0") || text.starts_with("#X3D V3") || text.starts_with("#X3D V4");
+}
+
 bool readText(std::string_view text, const std::string& path, const VrmlOptions& options,
               std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics) {
     std::string_view head = text;
     if (head.starts_with("\xEF\xBB\xBF")) head.remove_prefix(3);
     try {
         // X3D classic encoding (.x3dv, V3.x and V4.x) is VRML97 syntax with a few more statements.
-        if (head.starts_with("#VRML V2.0") || head.starts_with("#X3D V3") || head.starts_with("#X3D V4"))
+        if (isVrml97Text(head))
             return readVrml97(text, path, options, inline_stack, scene, diagnostics);
         if (head.starts_with("#VRML V1.0")) return readVrml1(text, path, options, inline_stack, scene, diagnostics);
     } catch (const std::bad_alloc&) {

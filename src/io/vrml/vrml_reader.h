@@ -23,6 +23,10 @@ bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene,
 
 namespace vrml {
 
+// True when `text` (after any UTF-8 byte-order mark) starts with a header the VRML97 reader
+// takes: "#VRML V2.0", or X3D classic's "#X3D V3" / "#X3D V4" (VRML97 syntax plus a few statements).
+bool isVrml97Text(std::string_view text);
+
 // Reads a file, gunzipping it when it starts with the gzip magic. Reports a located error
 // (at `from`, e.g. the Inline that asked for it) and returns nullopt when it cannot.
 std::optional<std::string> loadText(const std::string& path, const SourceLocation& from,
