@@ -16,24 +16,14 @@
 #include "export/gltf_writer.h"
 #include "export/ply_writer.h"
 #include "export/probes.h"
+#include "temp_files.h"
 
 using namespace radbake;
 namespace fs = std::filesystem;
+using testfs::readBytes;
+using testfs::TempDir;
 
 namespace {
-
-struct CompareTempDir {
-    fs::path path;
-    CompareTempDir() {
-        std::string pattern = (fs::temp_directory_path() / "radbake-compare-XXXXXX").string();
-        REQUIRE(mkdtemp(pattern.data()) != nullptr);
-        path = pattern;
-    }
-    ~CompareTempDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-};
 
 Scene twoMeshScene() {
     Scene scene;
@@ -128,7 +118,7 @@ const ChannelDifference* failingChannel(const FileDifference& file) {
 }  // namespace
 
 TEST_CASE("identical bake directories compare equal, file by file") {
-    CompareTempDir tmp;
+    TempDir tmp;
     BakeFiles files;
     files.write(tmp.path / "a");
     files.write(tmp.path / "b");
@@ -149,7 +139,7 @@ TEST_CASE("identical bake directories compare equal, file by file") {
 }
 
 TEST_CASE("a one-texel change is found and named") {
-    CompareTempDir tmp;
+    TempDir tmp;
     BakeFiles files;
     files.write(tmp.path / "a");
     files.image.rgb[(2 * 6 + 3) * 3 + 1] += 0.5f;  // texel x=3, y=2, green
@@ -170,7 +160,7 @@ TEST_CASE("a one-texel change is found and named") {
 }
 
 TEST_CASE("a one-vertex change is found in the glb and the ply, a probe change in probes.csv") {
-    CompareTempDir tmp;
+    TempDir tmp;
     BakeFiles files;
     files.write(tmp.path / "a");
     files.bake.values[1][2].z = 1.2f;  // mesh b, vertex 2, blue: 1.125 -> 1.2
@@ -201,7 +191,7 @@ TEST_CASE("a one-vertex change is found in the glb and the ply, a probe change i
 }
 
 TEST_CASE("differences within either tolerance pass; a NaN on one side never does") {
-    CompareTempDir tmp;
+    TempDir tmp;
     BakeFiles files;
     files.write(tmp.path / "a");
     files.bake.values[0][1].x *= 1.0f + 2e-4f;  // relative 2e-4 < 1e-3
@@ -227,7 +217,7 @@ TEST_CASE("differences within either tolerance pass; a NaN on one side never doe
 }
 
 TEST_CASE("different layouts, missing or extra files and mismatched kinds are not comparable") {
-    CompareTempDir tmp;
+    TempDir tmp;
     BakeFiles files;
     files.write(tmp.path / "a");
 
@@ -284,7 +274,7 @@ TEST_CASE("different layouts, missing or extra files and mismatched kinds are no
 }
 
 TEST_CASE("lightmap layouts: glb primitives per atlas, TEXCOORD_1 and u1 v1 must match exactly") {
-    CompareTempDir tmp;
+    TempDir tmp;
     BakeFiles files;
     files.with_lightmaps = true;
     files.write(tmp.path / "a");
@@ -354,7 +344,7 @@ TEST_CASE("lightmap layouts: glb primitives per atlas, TEXCOORD_1 and u1 v1 must
 }
 
 TEST_CASE("compare recurses into lightmaps/ and ignores manifest.json and PNG previews") {
-    CompareTempDir tmp;
+    TempDir tmp;
     BakeFiles files;
     files.write(tmp.path / "a");
     files.write(tmp.path / "b");

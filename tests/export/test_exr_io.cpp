@@ -12,24 +12,14 @@
 #include <string>
 
 #include "export/exr_io.h"
+#include "temp_files.h"
 
 using namespace radbake;
 namespace fs = std::filesystem;
+using testfs::readBytes;
+using testfs::TempDir;
 
 namespace {
-
-struct ExrTempDir {
-    fs::path path;
-    ExrTempDir() {
-        std::string pattern = (fs::temp_directory_path() / "radbake-exr-XXXXXX").string();
-        REQUIRE(mkdtemp(pattern.data()) != nullptr);
-        path = pattern;
-    }
-    ~ExrTempDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-};
 
 // Values spanning what lightmaps hold: zero, tiny, ordinary, bright HDR, not representable in half.
 RgbImage testImage(int width, int height) {
@@ -51,7 +41,7 @@ RgbImage testImage(int width, int height) {
 }  // namespace
 
 TEST_CASE("half EXR round trip gives the nearest halves and keeps the attributes") {
-    ExrTempDir tmp;
+    TempDir tmp;
     const RgbImage image = testImage(7, 5);
     Diagnostics diagnostics;
     REQUIRE(writeExr(tmp.path / "a.exr", image, ExrWriteOptions{}, diagnostics));
@@ -74,7 +64,7 @@ TEST_CASE("half EXR round trip gives the nearest halves and keeps the attributes
 }
 
 TEST_CASE("float EXR round trip gives the same floats") {
-    ExrTempDir tmp;
+    TempDir tmp;
     const RgbImage image = testImage(3, 9);
     Diagnostics diagnostics;
     REQUIRE(writeExr(tmp.path / "f.exr", image, ExrWriteOptions{true}, diagnostics));
@@ -86,7 +76,7 @@ TEST_CASE("float EXR round trip gives the same floats") {
 }
 
 TEST_CASE("rows are stored top row first") {
-    ExrTempDir tmp;
+    TempDir tmp;
     RgbImage image;
     image.width = 2;
     image.height = 3;
@@ -100,7 +90,7 @@ TEST_CASE("rows are stored top row first") {
 }
 
 TEST_CASE("half output clamps what half cannot hold, with a warning; float keeps it") {
-    ExrTempDir tmp;
+    TempDir tmp;
     RgbImage image;
     image.width = 2;
     image.height = 1;
@@ -122,7 +112,7 @@ TEST_CASE("half output clamps what half cannot hold, with a warning; float keeps
 }
 
 TEST_CASE("EXR errors are reported with the file, and a bad write leaves no file") {
-    ExrTempDir tmp;
+    TempDir tmp;
     Diagnostics diagnostics;
     RgbImage wrong;
     wrong.width = 4;

@@ -11,31 +11,14 @@
 #include "export/manifest.h"
 #include "export/output_transaction.h"
 #include "mini_json.h"
+#include "temp_files.h"
 
 using namespace radbake;
 namespace fs = std::filesystem;
+using testfs::readBytes;
+using testfs::TempDir;
 
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string pattern = (fs::temp_directory_path() / "radbake-manifest-XXXXXX").string();
-        REQUIRE(mkdtemp(pattern.data()) != nullptr);
-        path = pattern;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 }  // namespace
 
@@ -58,7 +41,7 @@ TEST_CASE("the manifest lists each output once, sorted, with its size and SHA-25
                           "radbake 9.9 \"test\"", diagnostics));
     CHECK(diagnostics.all().empty());
 
-    const minijson::Value manifest = minijson::parse(slurp(manifest_path));
+    const minijson::Value manifest = minijson::parse(readBytes(manifest_path));
     CHECK(manifest["generator"].str() == "radbake 9.9 \"test\"");
     const minijson::Value& listed = manifest["files"];
     REQUIRE(listed.size() == 4);
@@ -80,7 +63,7 @@ TEST_CASE("a manifest of nothing is valid JSON, and a missing output is reported
     Diagnostics diagnostics;
     const fs::path manifest_path = tmp.path / "manifest.json";
     REQUIRE(writeManifest(manifest_path, tmp.path, {}, "radbake", diagnostics));
-    const minijson::Value manifest = minijson::parse(slurp(manifest_path));
+    const minijson::Value manifest = minijson::parse(readBytes(manifest_path));
     CHECK(manifest["files"].size() == 0);
     CHECK(manifest["files"].type == minijson::Value::Type::Array);
 
@@ -104,10 +87,10 @@ TEST_CASE("a manifest written through a transaction describes the committed file
                               "radbake", diagnostics));
         REQUIRE(transaction.commit(diagnostics));
     }
-    const minijson::Value manifest = minijson::parse(slurp(out / "manifest.json"));
+    const minijson::Value manifest = minijson::parse(readBytes(out / "manifest.json"));
     REQUIRE(manifest["files"].size() == 2);
     for (size_t i = 0; i < 2; ++i) {
         const std::string path = manifest["files"][i]["path"].str();
-        CHECK(manifest["files"][i]["sha256"].str() == sha256Hex(slurp(out / path)));
+        CHECK(manifest["files"][i]["sha256"].str() == sha256Hex(readBytes(out / path)));
     }
 }

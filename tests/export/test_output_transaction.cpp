@@ -15,38 +15,21 @@
 #include <vector>
 
 #include "export/output_transaction.h"
+#include "temp_files.h"
 
 using namespace radbake;
 namespace fs = std::filesystem;
+using testfs::readBytes;
+using testfs::TempDir;
 
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string pattern = (fs::temp_directory_path() / "radbake-test-XXXXXX").string();
-        REQUIRE(mkdtemp(pattern.data()) != nullptr);
-        path = pattern;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 // name -> content of every regular file under `dir`, and "name/" for directories.
 std::map<std::string, std::string> listing(const fs::path& dir) {
     std::map<std::string, std::string> out;
     for (const auto& entry : fs::recursive_directory_iterator(dir)) {
         const std::string name = fs::relative(entry.path(), dir).string();
-        out[entry.is_directory() ? name + "/" : name] = entry.is_directory() ? "" : slurp(entry.path());
+        out[entry.is_directory() ? name + "/" : name] = entry.is_directory() ? "" : readBytes(entry.path());
     }
     return out;
 }
