@@ -1,10 +1,58 @@
 #pragma once
-// The whole pipeline on one screen. Each stage is a free function from plain data to plain
-// data; see DESIGN.md section 3.
+// radbake, the library: the whole pipeline on one screen (DESIGN.md section 3). Each stage is
+// a free function from plain data to plain data; bake() runs them all in memory and
+// writeBake() writes the result, all or nothing. `radbake bake` is these two calls.
 //
-//   Scene      importScene(path, ImportOptions, Diagnostics&)                  io/import.h
-//   PartSet    buildParts(const Scene&, PartOptions, Diagnostics&)             geometry/parts.h
-//   Solution   solveRadiosity(const Scene&, const PartSet&, SolverOptions, ...) radiosity/solver.h
-//   VertexBake bakeVertices(const Scene&, const Solution&, ...)                 bake/vertex_bake.h
-//   void       writeOutputs(...)                                                export/
-#include "io/import.h"
+// Link it from another project:   find_package(radbake REQUIRED)
+//                                 target_link_libraries(tool PRIVATE radbake::radbake)
+// and see examples/bake_scene/. Errors are never thrown: every stage reports located errors
+// to a Diagnostics and returns an empty result or false. Every stage that runs in parallel
+// takes a ParallelRunner (its threads; the cancel flag of a Progress).
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "bake/lightmap_bake.h"    // Lightmaps, LightmapCharts, LightmapOptions
+#include "bake/lightmap_budget.h"  // LightmapBudget
+#include "bake/vertex_bake.h"      // VertexBake
+#include "core/diagnostics.h"      // Diagnostics, SourceLocation
+#include "core/parallel.h"         // Threading, ParallelRunner
+#include "core/progress.h"         // Progress, ProgressEvent
+#include "geometry/parts.h"        // PartSet, PartOptions
+#include "io/import.h"             // ImportOptions
+#include "pipeline/bake.h"         // Bake, BakeStatus, BakedLightmaps
+#include "pipeline/bake_options.h" // BakeOptions, LightmapSettings
+#include "radiosity/solution.h"    // Solution, SolverOptions, SolveStats
+#include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera
+
+namespace radbake {
+
+// 1. Any supported file (VRML97, VRML 1.0, X3D classic, everything Assimp reads) -> a
+//    validated Scene in metres.
+std::optional<Scene> importScene(const std::string& path, const ImportOptions& options, Diagnostics& diagnostics);
+
+// 2. Convex parts with their AABBs and OBBs: the potential occluders of every shaft.
+PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& diagnostics);
+
+// 3. Hierarchical radiosity: elements, links (shafts, occlusion tests, rays), the solve.
+std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts, const SolverOptions& options,
+                                       ParallelRunner& runner, Progress& progress, Diagnostics& diagnostics);
+
+// 4. H / pi at every vertex of every mesh.
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner);
+
+// 5. Lightmaps: charts (within the texel budget, before the solve), then packing, texels,
+//    dilation and seams.
+std::optional<LightmapCharts> chartLightmapsWithinBudget(const Scene& scene, LightmapOptions options,
+                                                         const LightmapBudget& budget, Diagnostics& diagnostics);
+bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
+                   Lightmaps& lightmaps, Diagnostics& diagnostics);
+
+// All of the above (plus probes and previews), in memory.
+Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
+Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
+
+// 6. glb, PLY, EXR atlases, probes.csv, previews, stats.json, manifest.json: all or nothing.
+bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics);
+
+}  // namespace radbake

@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     double tolerance = -1.0;
     bool dilated_only = false;
     for (int i = 2; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--density") && i + 1 < argc) options.texel_density = std::atof(argv[++i]);
+        if (!std::strcmp(argv[i], "--density") && i + 1 < argc) options.texels_per_metre = std::atof(argv[++i]);
         else if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
         else if (!std::strcmp(argv[i], "--unit-scale") && i + 1 < argc) import_options.unit_scale = std::strtof(argv[++i], nullptr);
         else if (!std::strcmp(argv[i], "--bake")) bake = true;
@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
     size_t triangles = 0;
     for (const Mesh& mesh : imported->meshes) triangles += mesh.triangles.size();
     std::printf("%s: %zu meshes, %zu triangles, density %g texels/m\n", argv[1], imported->meshes.size(), triangles,
-                options.texel_density);
+                options.texels_per_metre);
     for (bool smooth : {false, true}) {
         Scene scene = *imported;
         if (!smooth)
@@ -91,7 +91,8 @@ int main(int argc, char** argv) {
         const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
         SolverOptions solver = SolverOptions::forQuality(Quality::Draft);
         Progress progress(false);
-        const std::optional<Solution> solution = solveRadiosity(scene, parts, solver, progress, diagnostics);
+        ParallelRunner runner(Threading{});
+        const std::optional<Solution> solution = solveRadiosity(scene, parts, solver, runner, progress, diagnostics);
         if (!solution) return 1;
         const std::vector<double> tolerances = tolerance >= 0.0 ? std::vector<double>{0.0, tolerance}
                                                                 : std::vector<double>{options.texel_tolerance};
@@ -107,7 +108,7 @@ int main(int argc, char** argv) {
                 std::vector<double> bake_times;
                 for (int r = 0; r < runs; ++r) {
                     const auto start = std::chrono::steady_clock::now();
-                    if (!bakeLightmaps(scene, *solution, o, lightmaps, diagnostics)) return 1;
+                    if (!bakeLightmaps(scene, *solution, chartLightmaps(scene, o), runner, lightmaps, diagnostics)) return 1;
                     bake_times.push_back(seconds(start));
                 }
                 medians.push_back(median(bake_times));

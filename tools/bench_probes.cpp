@@ -141,7 +141,8 @@ int main(int argc, char** argv) {
                                               : Quality::Medium;
     SolverOptions options = SolverOptions::forQuality(q);
     Progress progress(false);
-    const auto solution = solveRadiosity(*scene, parts, options, progress, diagnostics);
+    ParallelRunner runner(Threading{});
+    const auto solution = solveRadiosity(*scene, parts, options, runner, progress, diagnostics);
     if (!solution) return 1;
     // The scene's positions are already scaled by the import (unit_scale): sample them as they are.
     const std::vector<Point> points = samplePoints(*scene, count, seed, 1.0);

@@ -80,21 +80,21 @@ int main(int argc, char** argv) {
         for (const std::string& thread_text : split(threads)) {
             SolverOptions options = SolverOptions::forQuality(q);
             options.visibility = mode;
-            options.threads = std::atoi(thread_text.c_str());
-            options.pin_threads = pin;
+            const Threading threading{.threads = std::atoi(thread_text.c_str()), .pin = pin};
             std::vector<double> seconds;
             SolveStats stats;
             for (int r = 0; r < runs; ++r) {
                 Progress progress(false);
+                ParallelRunner runner(threading);
                 const auto start = std::chrono::steady_clock::now();
-                const auto solution = solveRadiosity(*scene, parts, options, progress, diagnostics);
+                const auto solution = solveRadiosity(*scene, parts, options, runner, progress, diagnostics);
                 seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
                 if (!solution) return 1;
                 stats = solution->stats;
             }
             std::sort(seconds.begin(), seconds.end());
             std::printf("%-6s %3d %9.3f %8zu %8zu %9zu %8zu %9zu %6zu %5d %8.1f  (runs:", toString(mode),
-                        options.threads, seconds[seconds.size() / 2], stats.elements, stats.leaves, stats.links,
+                        threading.threads, seconds[seconds.size() / 2], stats.elements, stats.leaves, stats.links,
                         stats.shafts, stats.occluded_links, stats.rays, stats.iterations, peakRssMb());
             for (double s : seconds) std::printf(" %.3f", s);
             std::printf(")\n");

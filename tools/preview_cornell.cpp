@@ -1,5 +1,5 @@
 // Eyeball check of --preview on a real scene: imports a scene (default: the bundled Cornell
-// Box), solves it at draft quality, bakes vertices and lightmaps, and writes
+// Box), bakes it through the library at draft quality (vertices and lightmaps), and writes
 //   OUT_view_lightmap.png  the view through the lightmaps
 //   OUT_view_vertex.png    the same view through the vertex bake, at the same exposure
 //   OUT_atlas_<k>.png      each atlas
@@ -13,14 +13,7 @@
 #include <optional>
 #include <string>
 
-#include "bake/lightmap_bake.h"
-#include "bake/lightmap_mesh.h"
-#include "bake/vertex_bake.h"
-#include "export/preview.h"
-#include "geometry/parts.h"
-#include "io/import.h"
-#include "radiosity/solution.h"
-#include "radiosity/solver.h"
+#include "radbake.h"
 
 using namespace radbake;
 
@@ -60,22 +53,19 @@ int main(int argc, char** argv) {
     const std::string scene_path = argc > 2 ? argv[2] : defaultScene();
     const int width = argc > 4 ? std::atoi(argv[3]) : 400;
     const int height = argc > 4 ? std::atoi(argv[4]) : 300;
-    LightmapOptions lightmap_options;
-    if (argc > 5) lightmap_options.texel_density = std::atof(argv[5]);
+    // The library's bake at draft quality, with lightmaps; the views below are rendered here.
+    BakeOptions options = BakeOptions::forQuality(Quality::Draft);
+    if (argc > 5) options.lightmaps.texels_per_unit = std::atof(argv[5]);
 
     Diagnostics diagnostics;
     diagnostics.sink = [](const Diagnostic& d) { std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str()); };
-    std::optional<Scene> scene = importScene(scene_path, ImportOptions{}, diagnostics);
-    if (!scene) return 1;
-    const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
     Progress progress(false);
-    const SolverOptions options = SolverOptions::forQuality(Quality::Draft);
-    std::optional<Solution> solution = solveRadiosity(*scene, parts, options, progress, diagnostics);
-    if (!solution) return 1;
-    const VertexBake bake = bakeVertices(*scene, *solution);
-    Lightmaps lightmaps;
-    if (!bakeLightmaps(*scene, *solution, lightmap_options, lightmaps, diagnostics)) return 1;
-    const std::vector<LightmapMesh> meshes = lightmapMeshes(*scene, lightmaps.layout);
+    const Bake result = radbake::bake(scene_path, options, progress, diagnostics);
+    if (!result.ok() || !result.lightmaps) return 1;
+    const Scene* scene = result.scene.get();
+    const VertexBake& bake = result.vertices;
+    const Lightmaps& lightmaps = result.lightmaps->lightmaps;
+    const std::vector<LightmapMesh>& meshes = result.lightmaps->files.meshes;
 
     const Camera* camera = scene->cameras.empty() ? nullptr : &scene->cameras.front();
     std::printf("scene %s: %zu meshes, %zu cameras, %zu atlases\n", scene_path.c_str(), scene->meshes.size(),

@@ -4,10 +4,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/blocked_range.h>
-#include <tbb/info.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 namespace radbake {
 namespace {
@@ -66,20 +62,18 @@ std::vector<int> lattice(int count, int step) {
 }
 
 // Evaluates the requested texels in parallel, each into its own slot.
-void evaluateBatch(State& s, std::vector<size_t>& batch, tbb::task_arena& arena) {
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, batch.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
-            for (size_t k = range.begin(); k < range.end(); ++k) {
-                const size_t t = batch[k];
-                // The chart of a flat index: spans are sorted by offset.
-                const auto it = std::upper_bound(s.spans.begin(), s.spans.end(), t,
-                                                 [](size_t v, const ChartSpan& span) { return v < span.offset; });
-                const LightmapChart& chart = s.layout.charts[static_cast<size_t>(it - s.spans.begin()) - 1];
-                const ChartFace& face = chart.faces[s.sites[t].face];
-                s.values[t] = s.irradiance(face.worldPoint(s.sites[t].p_plane), face.normal_world) / kPi;
-                s.fill[t] = kEvaluated;
-            }
-        });
+void evaluateBatch(State& s, std::vector<size_t>& batch, ParallelRunner& runner) {
+    runner.forRanges(batch.size(), 16, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            const size_t t = batch[k];
+            // The chart of a flat index: spans are sorted by offset.
+            const auto it = std::upper_bound(s.spans.begin(), s.spans.end(), t,
+                                             [](size_t v, const ChartSpan& span) { return v < span.offset; });
+            const LightmapChart& chart = s.layout.charts[static_cast<size_t>(it - s.spans.begin()) - 1];
+            const ChartFace& face = chart.faces[s.sites[t].face];
+            s.values[t] = s.irradiance(face.worldPoint(s.sites[t].p_plane), face.normal_world) / kPi;
+            s.fill[t] = kEvaluated;
+        }
     });
     s.evaluations += batch.size();
     batch.clear();
@@ -184,7 +178,7 @@ void interpolateOwned(State& s, const Block& b) {
 }  // namespace
 
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
-                                      const IrradianceFunction& irradiance, double tolerance, int threads) {
+                                      const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner) {
     State s{layout, irradiance, {}, {}, {}, {}, {}, 0};
     size_t total = 0;
     for (const LightmapChart& chart : layout.charts) {
@@ -195,24 +189,20 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
     s.values.assign(total, DVec3(0.0));
     s.fill.assign(total, kNone);
     s.requested.assign(total, 0);
-    tbb::task_arena arena(threads > 0 ? threads : tbb::info::default_concurrency());
 
     // Sample points and coverage of every texel.
     for (uint32_t c = 0; c < layout.charts.size(); ++c) {
         const LightmapChart& chart = layout.charts[c];
         const ChartSpan span = s.spans[c];
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, static_cast<size_t>(span.width) * span.height, 64),
-                              [&](const tbb::blocked_range<size_t>& range) {
-                                  for (size_t t = range.begin(); t < range.end(); ++t) {
-                                      Site& site = s.sites[span.offset + t];
-                                      size_t face = 0;
-                                      const double covered = texelCoverage(chart, static_cast<int>(t % span.width),
-                                                                           static_cast<int>(t / span.width), site.p_plane, face);
-                                      site.face = static_cast<uint32_t>(face);
-                                      site.cover = covered <= 0.0 ? kEmpty : covered >= kFullCoverage ? kFull : kPartial;
-                                  }
-                              });
+        runner.forRanges(static_cast<size_t>(span.width) * span.height, 64, [&](size_t begin, size_t end) {
+            for (size_t t = begin; t < end; ++t) {
+                Site& site = s.sites[span.offset + t];
+                size_t face = 0;
+                const double covered = texelCoverage(chart, static_cast<int>(t % span.width),
+                                                     static_cast<int>(t / span.width), site.p_plane, face);
+                site.face = static_cast<uint32_t>(face);
+                site.cover = covered <= 0.0 ? kEmpty : covered >= kFullCoverage ? kFull : kPartial;
+            }
         });
     }
     std::vector<size_t> batch;
@@ -262,7 +252,7 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
                                        std::pair{b.i1, mj}})
                 request(s, s.at(b, i, j), batch);
         }
-        evaluateBatch(s, batch, arena);
+        evaluateBatch(s, batch, runner);
         if (floor < 0.0) {
             double brightest = 0.0;
             for (size_t t = 0; t < total; ++t)
@@ -278,16 +268,14 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
         }
         blocks = std::move(next);
     }
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, accepted.size(), 8), [&](const tbb::blocked_range<size_t>& range) {
-            for (size_t k = range.begin(); k < range.end(); ++k) interpolateOwned(s, accepted[k]);
-        });
+    runner.forRanges(accepted.size(), 8, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) interpolateOwned(s, accepted[k]);
     });
-    evaluateBatch(s, batch, arena);  // with no blocks (tolerance 0), the texels requested above
+    evaluateBatch(s, batch, runner);  // with no blocks (tolerance 0), the texels requested above
     // Safety net: a covered texel no leaf filled (none should remain) is evaluated.
     for (size_t t = 0; t < total; ++t)
         if (s.sites[t].cover != kEmpty && s.fill[t] == kNone) batch.push_back(t);
-    evaluateBatch(s, batch, arena);
+    evaluateBatch(s, batch, runner);
 
     AdaptiveCounts counts;
     counts.evaluated = s.evaluations;

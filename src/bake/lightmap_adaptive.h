@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bake/lightmap_bake.h"
+#include "core/parallel.h"
 
 namespace radbake {
 
@@ -35,8 +36,9 @@ struct AdaptiveCounts {
 // Fills the covered texels of every placed chart (state Covered, value H / pi) and leaves
 // the rest Empty. tolerance <= 0: every covered texel is evaluated, exactly as
 // evaluateLightmaps always did. Decisions depend only on evaluated values and run level by
-// level; each evaluation writes its own slot: the result does not depend on `threads`.
+// level; each evaluation writes its own slot: the result does not depend on the runner's
+// thread count. A cancelled runner leaves texels unevaluated (the caller discards them).
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
-                                      const IrradianceFunction& irradiance, double tolerance, int threads);
+                                      const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner);
 
 }  // namespace radbake

@@ -60,8 +60,8 @@ double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, s
     return covered / ((hi.x - lo.x) * (hi.y - lo.y));
 }
 
-Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads,
-                            double texel_tolerance) {
+Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
+                            ParallelRunner& runner, double texel_tolerance) {
     Lightmaps lightmaps;
     lightmaps.layout = std::move(layout);
     for (const LightmapAtlas& atlas : lightmaps.layout.atlases) {
@@ -73,7 +73,7 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
         lightmaps.images.push_back(std::move(image));
     }
     const AdaptiveCounts counts =
-        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, threads);
+        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner);
     lightmaps.covered_texels = counts.covered;
     lightmaps.evaluated_texels = counts.evaluated;
     lightmaps.interpolated_texels = counts.interpolated;
@@ -124,18 +124,27 @@ void dilateLightmaps(Lightmaps& lightmaps, int padding) {
     }
 }
 
-bool bakeLightmaps(const Scene& scene, const Solution& solution, const LightmapOptions& options, Lightmaps& lightmaps,
-                   Diagnostics& diagnostics) {
+LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options) {
+    LightmapCharts out;
+    out.options = options;
+    out.charts = buildLightmapCharts(scene, options);
+    for (const LightmapChart& chart : out.charts)
+        out.texels += static_cast<size_t>(chart.width) * static_cast<size_t>(chart.height);
+    return out;
+}
+
+bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
+                   Lightmaps& lightmaps, Diagnostics& diagnostics) {
+    const LightmapOptions& options = charts.options;
     LightmapLayout layout;
-    if (!packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics)) return false;
+    if (!packLightmapCharts(std::move(charts.charts), options, layout, diagnostics)) return false;
     const IrradianceFunction irradiance = [&solution](const DVec3& p, const DVec3& n) {
         return probeIrradiance(solution, p, n);
     };
-    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, solution.options.threads,
-                                  options.texel_tolerance);
-    if (options.stitch_seams)
-        stitchLightmaps(scene, lightmaps, irradiance, options.padding, solution.options.threads, options.texel_tolerance);
-    return true;
+    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance);
+    if (runner.cancelled()) return false;
+    if (options.stitch_seams) stitchLightmaps(scene, lightmaps, irradiance, options.padding, runner, options.texel_tolerance);
+    return !runner.cancelled();
 }
 
 }  // namespace radbake

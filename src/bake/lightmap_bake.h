@@ -10,6 +10,7 @@
 #include "bake/lightmap_pack.h"
 #include "core/diagnostics.h"
 #include "core/math.h"
+#include "core/parallel.h"
 
 namespace radbake {
 
@@ -58,21 +59,31 @@ bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane, 
 // cover (0 when none; 1 up to rounding inside the chart).
 double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face);
 
-// Fills every covered texel (value = H / pi) and dilates. `threads` <= 0: all cores.
+// Fills every covered texel (value = H / pi) and dilates, on the runner's threads.
 // texel_tolerance <= 0 evaluates every covered texel; above 0, smooth blocks of texels are
 // interpolated from evaluated ones within that relative tolerance (lightmap_adaptive.h).
 // Each texel writes its own slot, so the images do not depend on the thread count.
-Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding, int threads,
-                            double texel_tolerance = 0.0);
+Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
+                            ParallelRunner& runner, double texel_tolerance = 0.0);
 
 // Fills Empty texels inside each chart's padded rectangle from their filled 8-neighbours
 // (the average of those filled in the previous pass), pass after pass until the rectangle
 // is full; texels of one chart never take light from another chart.
 void dilateLightmaps(Lightmaps& lightmaps, int padding);
 
-// The whole lightmap stage: charts, packing, texels, dilation, then (options.stitch_seams)
-// the padding ring fitted to the chart edges and seams (lightmap_seams.h). False after reporting.
-bool bakeLightmaps(const Scene& scene, const Solution& solution, const LightmapOptions& options, Lightmaps& lightmaps,
-                   Diagnostics& diagnostics);
+// A scene's charts at one density, built once (unplaced): the texel budget builds them
+// before the solve (lightmap_budget.h) and bakeLightmaps places and fills the same ones.
+struct LightmapCharts {
+    LightmapOptions options;           // options.texels_per_metre is the density they were built at
+    std::vector<LightmapChart> charts;
+    size_t texels = 0;                 // chart texels, padding excluded (what the budget counts)
+};
+LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options);
+
+// The whole lightmap stage: packing, texels, dilation, then (options.stitch_seams) the
+// padding ring fitted to the chart edges and seams (lightmap_seams.h). False after reporting,
+// or with nothing reported when the runner was cancelled.
+bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
+                   Lightmaps& lightmaps, Diagnostics& diagnostics);
 
 }  // namespace radbake

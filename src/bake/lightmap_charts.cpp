@@ -150,7 +150,7 @@ std::vector<DVec2> clipHalfPlane(const std::vector<DVec2>& polygon, int axis, do
 // Texels needed for `metres` at the density; the small slack keeps an extent of exactly
 // n texels (a cut cell) from rounding up to n + 1.
 int texelsFor(double metres, const LightmapOptions& options) {
-    const int n = static_cast<int>(std::ceil(metres * options.texel_density - 1e-6));
+    const int n = static_cast<int>(std::ceil(metres * options.texels_per_metre - 1e-6));
     return std::max(n, std::max(options.min_chart_texels, 1));
 }
 
@@ -165,7 +165,7 @@ void fitToFaces(LightmapChart& chart, const LightmapOptions& options) {
         chart.area += polygonArea(face.p_plane);
     }
     chart.min_plane = lo;
-    chart.texels_per_metre = options.texel_density;
+    chart.texels_per_metre = options.texels_per_metre;
     chart.width = texelsFor(hi.x - lo.x, options);
     chart.height = texelsFor(hi.y - lo.y, options);
 }
@@ -178,7 +178,7 @@ void emitCharts(LightmapChart region, int cap, double area_floor, const Lightmap
         charts.push_back(std::move(region));
         return;
     }
-    const double cell = cap / options.texel_density;  // metres; cells align with the texel grid
+    const double cell = cap / options.texels_per_metre;  // metres; cells align with the texel grid
     const int cells_u = (region.width + cap - 1) / cap, cells_v = (region.height + cap - 1) / cap;
     for (int j = 0; j < cells_v; ++j) {
         for (int i = 0; i < cells_u; ++i) {

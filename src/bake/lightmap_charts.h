@@ -23,7 +23,7 @@
 namespace radbake {
 
 struct LightmapOptions {
-    double texel_density = 16.0;  // --texel-density: texels per metre
+    double texels_per_metre = 16.0;  // the scene is in metres (--texel-density is per scene unit)
     int max_chart_texels = 256;   // the cap: no chart side exceeds this; larger regions are split
     int min_chart_texels = 2;     // no chart side is smaller, however small its region
     int atlas_size = 1024;        // --atlas-size: atlases are at most this many texels a side

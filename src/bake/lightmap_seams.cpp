@@ -11,10 +11,6 @@
 #include <tuple>
 #include <unordered_map>
 
-#include <tbb/blocked_range.h>
-#include <tbb/info.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 namespace radbake {
 namespace {
@@ -345,7 +341,7 @@ ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout) {
 }
 
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
-                            int threads, double tolerance) {
+                            ParallelRunner& runner, double tolerance) {
     StitchStats stats;
     if (padding < 1 || lightmaps.images.empty()) {
         lightmaps.stitch = stats;
@@ -378,14 +374,10 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
         if (added) distinct.push_back(queries[q]);
         distinct_of[q] = it->second;
     }
-    tbb::task_arena arena(threads > 0 ? threads : tbb::info::default_concurrency());
     const auto evaluate = [&](const std::vector<const EdgeSample*>& points, std::vector<DVec3>& out) {
         out.resize(points.size());
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
-                for (size_t q = range.begin(); q < range.end(); ++q)
-                    out[q] = irradiance(points[q]->p_world, points[q]->normal_world) / kPi;
-            });
+        runner.forRanges(points.size(), 16, [&](size_t begin, size_t end) {
+            for (size_t q = begin; q < end; ++q) out[q] = irradiance(points[q]->p_world, points[q]->normal_world) / kPi;
         });
     };
     std::vector<DVec3> distinct_light;

@@ -55,9 +55,9 @@ DVec3 bilinearLookup(const LightmapImage& image, const DVec2& texel);
 // edge sample `between` two whose light agrees within that relative tolerance (or 1% of the
 // brightest edge light) takes their mean instead of an evaluation (about one evaluation per
 // texel of edge where the light is smooth). Sequential solve over a parallel gather: the
-// result does not depend on `threads`. Needs padding >= 1 (a lookup on an edge reads one
+// result does not depend on the runner's thread count. Needs padding >= 1 (a lookup on an edge reads one
 // padding ring); does nothing otherwise. Fills and returns lightmaps.stitch.
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
-                            int threads, double tolerance = 0.0);
+                            ParallelRunner& runner, double tolerance = 0.0);
 
 }  // namespace radbake

@@ -5,10 +5,6 @@
 #include <algorithm>
 #include <map>
 
-#include <tbb/blocked_range.h>
-#include <tbb/info.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "radiosity/solution.h"
 #include "scene/scene.h"
@@ -44,11 +40,9 @@ DVec3 bakeVertex(const Solution& solution, const DVec3& p, const std::vector<Inc
 
 }  // namespace
 
-VertexBake bakeVertices(const Scene& scene, const Solution& solution) {
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner) {
     VertexBake bake;
     bake.values.resize(scene.meshes.size());
-    const int threads = solution.options.threads > 0 ? solution.options.threads : tbb::info::default_concurrency();
-    tbb::task_arena arena(threads);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         std::vector<std::vector<Incident>> incident(mesh.positions.size());
@@ -63,15 +57,12 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution) {
         std::vector<Vec3>& values = bake.values[m];
         values.assign(mesh.positions.size(), Vec3(0.0f));
         // Each vertex writes its own slot: the result does not depend on the thread count.
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.positions.size(), 16),
-                              [&](const tbb::blocked_range<size_t>& range) {
-                                  for (size_t v = range.begin(); v < range.end(); ++v) {
-                                      if (incident[v].empty()) continue;
-                                      const DVec3 h = bakeVertex(solution, DVec3(mesh.positions[v]), incident[v]);
-                                      values[v] = Vec3(h / kPi);
-                                  }
-                              });
+        runner.forRanges(mesh.positions.size(), 16, [&](size_t begin, size_t end) {
+            for (size_t v = begin; v < end; ++v) {
+                if (incident[v].empty()) continue;
+                const DVec3 h = bakeVertex(solution, DVec3(mesh.positions[v]), incident[v]);
+                values[v] = Vec3(h / kPi);
+            }
         });
     }
     return bake;

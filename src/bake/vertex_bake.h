@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/parallel.h"
 
 namespace radbake {
 
@@ -15,6 +16,8 @@ struct VertexBake {
     std::vector<std::vector<Vec3>> values;
 };
 
-VertexBake bakeVertices(const Scene& scene, const Solution& solution);
+// On the runner's threads; each vertex writes its own slot, so the values do not depend on
+// the thread count. A cancelled runner leaves vertices unevaluated (discard the bake).
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner);
 
 }  // namespace radbake

@@ -1,33 +1,20 @@
-// `radbake bake SCENE`: import, solve, bake per-vertex light, write glb/ply/probes/stats.
-// Every output goes through an OutputTransaction: on any error nothing new is left in OUTDIR.
+// `radbake bake SCENE`: parses the command line into one BakeOptions, calls the library's
+// bake() and writeBake() (src/radbake.h), and prints. What belongs to a program and not to a
+// library lives here: the terminal progress line, signal handlers that remove a half-written
+// output, thread pinning by default.
 #include <unistd.h>
 
-#include <algorithm>
-#include <atomic>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
-#include <tbb/global_control.h>
-
-#include "bake/vertex_bake.h"
-#include "cli/bake_outputs.h"
 #include "cli/commands.h"
-#include "export/gltf_writer.h"
-#include "export/hash.h"
-#include "export/manifest.h"
 #include "export/output_transaction.h"
-#include "export/ply_writer.h"
-#include "export/probes.h"
-#include "export/stats_json.h"
-#include "geometry/parts.h"
-#include "io/import.h"
-#include "radiosity/parallel.h"
-#include "radiosity/solution.h"
+#include "radbake.h"
 
 namespace radbake::cli {
 namespace {
@@ -38,11 +25,13 @@ struct BakeArgs {
     std::string quality_name = "medium";
     std::string visibility_name = "exact";
     int threads = 0;
+    bool no_pin_threads = false;
     std::string probes;
     ImportOptions import;
     bool quiet = false;
     bool preview = false;
-    LightmapArgs lightmaps;
+    bool no_lightmaps = false;
+    LightmapSettings lightmaps;
     // Raw knobs; applied over the preset only when given on the command line.
     double error_threshold = 0.0;
     double local_error_threshold = 0.0;
@@ -78,26 +67,26 @@ Enum lookup(const std::vector<std::pair<std::string, Enum>>& table, const std::s
     return table.front().second;
 }
 
-const std::string kGenerator = std::string("radbake ") + RADBAKE_VERSION;
-
-SolverOptions solverOptions(const BakeArgs& args) {
-    const Quality quality = lookup(kQualities, args.quality_name);
-    SolverOptions options = SolverOptions::forQuality(quality);
-    options.quality = quality;
-    options.visibility = lookup(kVisibilities, args.visibility_name);
-    options.threads = args.threads;
-    if (args.error_threshold_option->count()) options.error_threshold = args.error_threshold;
-    if (args.local_error_threshold_option->count()) options.local_error_threshold = args.local_error_threshold;
-    if (args.min_area_option->count()) options.min_element_area = args.min_area;
-    if (args.tolerance_option->count()) options.iteration_tolerance = args.tolerance;
-    if (args.max_iterations_option->count()) options.max_iterations = args.max_iterations;
+// The preset of --quality, then every knob the command line gave.
+BakeOptions bakeOptions(const BakeArgs& args) {
+    BakeOptions options = BakeOptions::forQuality(lookup(kQualities, args.quality_name));
+    SolverOptions& solver = options.solver;
+    solver.visibility = lookup(kVisibilities, args.visibility_name);
+    if (args.error_threshold_option->count()) solver.error_threshold = args.error_threshold;
+    if (args.local_error_threshold_option->count()) solver.local_error_threshold = args.local_error_threshold;
+    if (args.min_area_option->count()) solver.min_element_area = args.min_area;
+    if (args.tolerance_option->count()) solver.iteration_tolerance = args.tolerance;
+    if (args.max_iterations_option->count()) solver.max_iterations = args.max_iterations;
+    const double texel_tolerance = options.lightmaps.texel_tolerance;
+    options.lightmaps = args.lightmaps;
+    options.lightmaps.enabled = !args.no_lightmaps;
+    if (!args.texel_tolerance_option->count()) options.lightmaps.texel_tolerance = texel_tolerance;
+    options.import = args.import;
+    options.preview = args.preview;
+    // A program that owns its process pins its workers (unpinned ones were seen sharing one
+    // core on the 2-core build machines); the library does not unless asked.
+    options.threading = Threading{args.threads, !args.no_pin_threads};
     return options;
-}
-
-int threadsUsed(int requested) {
-    if (requested > 0) return requested;
-    const unsigned cores = std::thread::hardware_concurrency();
-    return cores > 0 ? static_cast<int>(cores) : 1;
 }
 
 // Diagnostics go to stderr; notes only when the run is interactive (not quiet, a terminal).
@@ -108,184 +97,39 @@ void routeDiagnostics(Diagnostics& diagnostics, Progress& progress) {
     };
 }
 
-// Each probe writes its own slot, so probes.csv does not depend on the thread count.
-std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Probe>& probes, float unit_scale,
-                                  Progress& progress) {
-    std::vector<DVec3> irradiance(probes.size());
-    std::atomic<size_t> done{0};
-    ParallelRunner runner(solution.options.threads, solution.options.pin_threads);
-    runner.forEach(probes.size(), 4, [&](size_t i) {
-        irradiance[i] = probeIrradiance(solution, probes[i].position * static_cast<double>(unit_scale), probes[i].normal);
-        progress.update(static_cast<double>(++done) / static_cast<double>(probes.size()));
-    });
-    return irradiance;
-}
-
-// What an EXR header records of the bake: enough to tell which scene and settings made it.
-// Nothing here depends on the thread count or the clock, so outputs stay byte-identical.
-std::vector<std::pair<std::string, std::string>> provenance(const BakeArgs& args, const LightmapArgs& lightmaps,
-                                                            const SolverOptions& options,
-                                                            const std::string& scene_sha256) {
-    const double texel_density = lightmaps.texels_per_metre * static_cast<double>(args.import.unit_scale);
-    char knobs[512];
-    std::snprintf(knobs, sizeof knobs,
-                  "quality=%s visibility=%s error_threshold=%g local_error_threshold=%g min_area=%g tolerance=%g max_iterations=%d "
-                  "unit_scale=%g emission_scale=%g texel_density=%g atlas_size=%d padding=%d texel_tolerance=%g",
-                  toString(options.quality), toString(options.visibility), options.error_threshold,
-                  options.local_error_threshold, options.min_element_area, options.iteration_tolerance, options.max_iterations,
-                  static_cast<double>(args.import.unit_scale), static_cast<double>(args.import.emission_scale),
-                  texel_density, lightmaps.atlas_size, lightmaps.padding, lightmaps.texel_tolerance);
-    return {{"radbake:version", kGenerator},
-            {"radbake:scene", std::filesystem::path(args.scene).filename().string()},
-            {"radbake:scene_sha256", scene_sha256},
-            {"radbake:options", knobs}};
-}
-
-// Everything after the import; false after reporting. Outputs are only staged here.
-bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Probe>& probes,
-                  OutputTransaction& transaction, Progress& progress, Diagnostics& diagnostics,
-                  BakeReport& report) {
-    report.options = solverOptions(args);
-    LightmapArgs lightmap_args = args.lightmaps;
-    if (!args.texel_tolerance_option->count()) lightmap_args.texel_tolerance = texelToleranceFor(report.options.quality);
-    // Before the solve: a lightmap budget error should not cost a solve first.
-    if (!lightmap_args.skip && !chooseTexelDensity(scene, lightmap_args, args.import.unit_scale, diagnostics))
-        return false;
-
-    progress.beginPhase("parts");
-    const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
-    if (diagnostics.hasErrors()) return false;
-
-    progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
-    std::optional<Solution> solution = solveRadiosity(scene, parts, report.options, progress, diagnostics);
-    if (!solution || diagnostics.hasErrors()) return false;
-    report.solve = solution->stats;
-
-    progress.beginPhase("vertices");
-    const VertexBake bake = bakeVertices(scene, *solution);
-
-    BakedLightmaps baked;
-    if (!args.lightmaps.skip) {
-        progress.beginPhase("lightmaps");
-        if (!bakeSceneLightmaps(scene, *solution, lightmap_args, args.import.unit_scale, baked, report.lightmaps,
-                                diagnostics))
-            return false;
-    }
-    const LightmapFiles* lightmap_files = args.lightmaps.skip ? nullptr : &baked.files;
-
-    std::vector<DVec3> irradiance;
-    if (!args.probes.empty()) {
-        progress.beginPhase("probes");
-        irradiance = evaluateProbes(*solution, probes, args.import.unit_scale, progress);
-    }
-
-    progress.beginPhase("write");
-    GltfOptions gltf;
-    gltf.generator = kGenerator;
-    gltf.lightmaps = lightmap_files;
-    if (!writeGlb(transaction.stage(scene.name + ".glb"), scene, bake, gltf, diagnostics)) return false;
-    PlyOptions ply;
-    ply.generator = kGenerator;
-    ply.lightmaps = lightmap_files;
-    if (!writePly(transaction.stage(scene.name + ".ply"), scene, bake, ply, diagnostics)) return false;
-    // Older lightmaps and previews would not match this bake: whatever this run does not
-    // write under those folders is removed on commit.
-    transaction.retireUnstagedIn("lightmaps");
-    transaction.retireUnstagedIn("preview");
-    if (!args.lightmaps.skip) {
-        const std::optional<std::string> scene_hash = sha256File(args.scene, diagnostics);
-        if (!scene_hash) return false;
-        if (!stageLightmapExrs(transaction, baked, provenance(args, lightmap_args, report.options, *scene_hash),
-                               args.lightmaps.exr_float, diagnostics))
-            return false;
-    }
-    if (args.preview) {
-        progress.beginPhase("preview");
-        if (!stagePreviews(transaction, scene, bake, args.lightmaps.skip ? nullptr : &baked, diagnostics)) return false;
-    }
-    if (args.probes.empty()) {
-        transaction.retire("probes.csv");  // an older one would not match this bake
-    } else if (!writeProbesCsv(transaction.stage("probes.csv"), probes, irradiance, diagnostics)) {
-        return false;
-    }
-    progress.endPhase();
-
-    // stats.json last, so that its wall time covers every other output.
-    report.phases = progress.phaseSeconds();
-    report.seconds = progress.totalSeconds();
-    report.peak_rss_mb = peakRssMegabytes();
-    report.warnings = diagnostics.warningCount();
-    if (!writeStatsJson(transaction.stage("stats.json"), report, diagnostics)) return false;
-    // The manifest last: the size and SHA-256 of every other output.
-    const std::vector<std::string> outputs = transaction.staged();
-    return writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), outputs, kGenerator, diagnostics);
-}
-
 int runBake(const BakeArgs& args) {
-    // One limit for every parallel phase (solver, vertices, probes): --threads N means N.
-    const int threads = threadsUsed(args.threads);
-    tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-
     Progress progress(!args.quiet && isatty(STDERR_FILENO));
     Diagnostics diagnostics;
     routeDiagnostics(diagnostics, progress);
+    // An interrupted content build leaves no temporary directory behind.
+    cleanUpStagingOnSignals();
 
-    progress.beginPhase("import");
-    std::optional<Scene> scene = importScene(args.scene, args.import, diagnostics);
-    if (!scene) return kExitInputError;
-    if (std::none_of(scene->meshes.begin(), scene->meshes.end(), [](const Mesh& m) { return !m.triangles.empty(); })) {
-        diagnostics.error({args.scene, 0, 0}, "nothing to bake: the scene has no surfaces");
-        return kExitInputError;
-    }
-    const bool emits = std::any_of(scene->meshes.begin(), scene->meshes.end(), [&](const Mesh& m) {
-        return !m.triangles.empty() && m.material < scene->materials.size() && scene->materials[m.material].isEmitter();
-    });
-    if (!emits && scene->lights.empty())
-        diagnostics.warning({args.scene, 0, 0},
-                            "the scene has no emissive surface and no light: every baked value will be 0 "
-                            "(VRML's headlight is not baked)");
-    std::vector<Probe> probes;
+    BakeOptions options = bakeOptions(args);
     if (!args.probes.empty()) {
         std::optional<std::vector<Probe>> read = readProbes(args.probes, diagnostics);
         if (!read) return kExitInputError;
-        probes = std::move(*read);
-        if (probes.empty()) diagnostics.warning({args.probes, 0, 0}, "probe file holds no probes");
+        if (read->empty()) diagnostics.warning({args.probes, 0, 0}, "probe file holds no probes");
+        options.probes = std::move(*read);
     }
+    const Bake result = bake(args.scene, options, progress, diagnostics);
+    if (!result.ok()) return kExitInputError;
+    const std::filesystem::path out_dir = args.out_dir.empty() ? std::filesystem::path("baked") / result.scene->name
+                                                               : std::filesystem::path(args.out_dir);
+    if (!writeBake(result, out_dir, diagnostics) || diagnostics.hasErrors()) return kExitInputError;
 
-    const std::filesystem::path out_dir =
-        args.out_dir.empty() ? std::filesystem::path("baked") / scene->name : std::filesystem::path(args.out_dir);
-    OutputTransaction transaction(out_dir);
-    if (!transaction.begin(diagnostics)) return kExitInputError;
-    cleanUpStagingOnSignals();
-
-    BakeReport report;
-    report.generator = kGenerator;
-    report.scene = args.scene;
-    report.threads = threads;
-    report.meshes = scene->meshes.size();
-    for (const Mesh& mesh : scene->meshes) {
-        report.vertices += mesh.positions.size();
-        report.triangles += mesh.triangles.size();
-    }
-    report.probes = probes.size();
-
-    if (!bakeAndStage(args, *scene, probes, transaction, progress, diagnostics, report) || diagnostics.hasErrors())
-        return kExitInputError;  // the transaction's destructor removes the staged files
-    if (!transaction.commit(diagnostics)) return kExitInputError;
-
-    const SolveStats& s = report.solve;
+    const SolveStats& s = result.report.solve;
     std::string lightmaps;
-    if (report.lightmaps.baked) {
+    if (result.report.lightmaps.baked) {
         char buffer[128];
-        std::snprintf(buffer, sizeof buffer, ", %zu lightmap%s (%.0f%% occupied)", report.lightmaps.atlases,
-                      report.lightmaps.atlases == 1 ? "" : "s", 100.0 * report.lightmaps.occupancy);
+        std::snprintf(buffer, sizeof buffer, ", %zu lightmap%s (%.0f%% occupied)", result.report.lightmaps.atlases,
+                      result.report.lightmaps.atlases == 1 ? "" : "s", 100.0 * result.report.lightmaps.occupancy);
         lightmaps = buffer;
     }
     std::printf("radbake: baked %s in %.2f s: %zu elements, %zu links (%zu occluded), %d iterations%s%s, "
                 "%d warning%s -> %s\n",
-                args.scene.c_str(), report.seconds, s.elements, s.links, s.occluded_links, s.iterations,
+                args.scene.c_str(), progress.totalSeconds(), s.elements, s.links, s.occluded_links, s.iterations,
                 s.converged ? "" : " (not converged)", lightmaps.c_str(), diagnostics.warningCount(),
-                diagnostics.warningCount() == 1 ? "" : "s", transaction.outDir().string().c_str());
+                diagnostics.warningCount() == 1 ? "" : "s", out_dir.lexically_normal().string().c_str());
     return kExitOk;
 }
 
@@ -322,6 +166,8 @@ void addBakeCommand(CLI::App& app, int& result) {
     cmd->add_option("--threads", args->threads, "Worker threads for every phase; 0: all cores")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    cmd->add_flag("--no-pin-threads", args->no_pin_threads,
+                  "Leave worker threads unpinned (by default each is bound to a core of its own)");
     cmd->add_option("--probes", args->probes,
                     "Probe file: one 'x y z nx ny nz' a line (scene units); writes probes.csv with H in W/m^2");
     cmd->add_option("--unit-scale", args->import.unit_scale, "Metres per scene unit")->capture_default_str();
@@ -354,8 +200,8 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
             ->check(CLI::PositiveNumber);
 
-    cmd->add_flag("--no-lightmaps", args->lightmaps.skip, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
-    cmd->add_option("--texel-density", args->lightmaps.texel_density, "Lightmap texels per scene unit")
+    cmd->add_flag("--no-lightmaps", args->no_lightmaps, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
+    cmd->add_option("--texel-density", args->lightmaps.texels_per_unit, "Lightmap texels per scene unit")
         ->check(CLI::PositiveNumber)
         ->default_str("16 per metre, from --unit-scale");
     cmd->add_option("--atlas-size", args->lightmaps.atlas_size, "Largest lightmap atlas side, in texels")

@@ -36,23 +36,37 @@ void Progress::beginPhase(std::string_view name) {
     phase_start_ = std::chrono::steady_clock::now();
     fraction_ = 0.0;
     last_draw_ns_ = 0;
+    if (sink_) notify(false, 0.0);
     if (show_) draw(false);
+}
+
+void Progress::notify(bool phase_done, double phase_seconds) {
+    ProgressEvent event;
+    event.phase = current_;
+    event.fraction = phase_done ? 1.0 : fraction_.load(std::memory_order_relaxed);
+    event.phase_seconds = phase_seconds;
+    event.total_seconds = totalSeconds();
+    event.phase_done = phase_done;
+    sink_(event);
 }
 
 void Progress::update(double fraction) {
     fraction_.store(std::clamp(fraction, 0.0, 1.0), std::memory_order_relaxed);
-    if (!show_) return;
+    if (!show_ && !sink_) return;
     // Redraw at most ten times a second; whichever thread wins the exchange draws.
     const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::steady_clock::now() - phase_start_).count();
     int64_t last = last_draw_ns_.load(std::memory_order_relaxed);
     if (now - last < 100'000'000) return;
-    if (last_draw_ns_.compare_exchange_strong(last, now)) draw(false);
+    if (!last_draw_ns_.compare_exchange_strong(last, now)) return;
+    if (sink_) notify(false, 1e-9 * static_cast<double>(now));
+    if (show_) draw(false);
 }
 
 void Progress::endPhase() {
     if (current_.empty()) return;
     phases_.emplace_back(current_, secondsSince(phase_start_));
+    if (sink_) notify(true, phases_.back().second);
     if (show_) draw(true);
     current_.clear();
 }

@@ -1,10 +1,13 @@
 #pragma once
 // Progress of a long run: named phases with their wall time, and on a terminal a live line
 // with the phase, its percentage, elapsed (phase and total) and estimated remaining time.
-// Quiet (no drawing) when not shown.
+// Quiet (no drawing) when not shown. A host program (an asset importer's UI) gets the same
+// events through a sink, and may cancel the run from it or from any thread: every phase
+// polls cancelled() and the bake returns BakeStatus::Cancelled with nothing written.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <string_view>
@@ -13,8 +16,20 @@
 
 namespace radbake {
 
+struct ProgressEvent {
+    std::string_view phase;
+    double fraction = 0.0;       // 0..1 within the phase (0 while unknown)
+    double phase_seconds = 0.0;  // elapsed in this phase
+    double total_seconds = 0.0;  // elapsed since the run began
+    bool phase_done = false;     // the phase has just ended (phase_seconds is its time)
+};
+
 class Progress {
 public:
+    // Called at each phase's start and end and at most ten times a second in between, from
+    // whichever thread reported; it must be thread-safe and quick. It may call cancel().
+    using Sink = std::function<void(const ProgressEvent&)>;
+
     // show: draw on stderr (the caller passes: stderr is a terminal and not --quiet).
     explicit Progress(bool show = false);
     ~Progress();
@@ -30,6 +45,14 @@ public:
     void printLine(std::string_view line);
 
     bool shown() const { return show_; }
+
+    void setSink(Sink sink) { sink_ = std::move(sink); }
+
+    // Asks the run to stop as soon as it can; thread-safe, idempotent.
+    void cancel() { cancel_.store(true); }
+    bool cancelled() const { return cancel_.load(std::memory_order_relaxed); }
+    // For ParallelRunner, which skips the ranges not yet started once it is set.
+    const std::atomic<bool>* cancelFlag() const { return &cancel_; }
     // Wall seconds since construction.
     double totalSeconds() const;
 
@@ -38,7 +61,10 @@ public:
 
 private:
     void draw(bool final_line);
+    void notify(bool phase_done, double phase_seconds);
     bool show_;
+    Sink sink_;
+    std::atomic<bool> cancel_{false};
     std::string current_;
     std::chrono::steady_clock::time_point start_;
     std::chrono::steady_clock::time_point phase_start_;

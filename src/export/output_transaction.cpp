@@ -38,8 +38,17 @@ constexpr int kMaxSignalPaths = 256;
 constexpr size_t kMaxPathBytes = 4096;
 char g_signal_paths[kMaxSignalPaths][kMaxPathBytes];
 std::atomic<int> g_signal_path_count{0};
+// Set by cleanUpStagingOnSignals (a program's choice, never the library's): until then no
+// transaction touches this process-wide table, so transactions on several threads of a host
+// program share no state.
+std::atomic<bool> g_signal_cleanup{false};
+
+void forgetSignalPaths() {
+    if (g_signal_cleanup.load()) g_signal_path_count.store(0);
+}
 
 void registerSignalPath(const fs::path& path) {
+    if (!g_signal_cleanup.load()) return;
     const int slot = g_signal_path_count.load();
     const std::string text = path.string();
     if (slot >= kMaxSignalPaths || text.size() >= kMaxPathBytes) return;
@@ -60,6 +69,7 @@ void removeStagingOnSignal(int signal_number) {
 }  // namespace
 
 void cleanUpStagingOnSignals() {
+    g_signal_cleanup.store(true);
     for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::signal(signal_number, removeStagingOnSignal);
 }
 
@@ -106,7 +116,7 @@ bool OutputTransaction::begin(Diagnostics& diagnostics) {
         return false;
     }
     staging_dir_ = pattern;
-    g_signal_path_count.store(0);
+    forgetSignalPaths();
     registerSignalPath(staging_dir_);
     return true;
 }
@@ -229,13 +239,13 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
             diagnostics.error(at(out_dir_), "cannot move outputs into place: " + ec.message());
             return false;
         }
-        g_signal_path_count.store(0);
+        forgetSignalPaths();
         committed_ = true;
         staging_dir_.clear();
         return true;
     }
     if (!commitIntoExisting(diagnostics)) return false;
-    g_signal_path_count.store(0);
+    forgetSignalPaths();
     committed_ = true;
     fs::remove_all(staging_dir_, ec);  // only backups of the replaced files remain there
     staging_dir_.clear();
@@ -325,7 +335,7 @@ bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
 }
 
 void OutputTransaction::abandon() {
-    if (!staging_dir_.empty()) g_signal_path_count.store(0);
+    if (!staging_dir_.empty()) forgetSignalPaths();
     std::error_code ec;
     if (!staging_dir_.empty()) fs::remove_all(staging_dir_, ec);
     staging_dir_.clear();

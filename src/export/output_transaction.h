@@ -71,7 +71,8 @@ private:
 
 // On SIGINT/SIGTERM/SIGHUP, removes the staged files and the staging directory of the
 // transaction begun most recently (and not yet committed or abandoned), then dies of the
-// signal as usual: an interrupted content build leaves no temporary directory behind.
+// signal as usual: an interrupted content build leaves no temporary directory behind. For a
+// program, not the library: a host that installs its own handlers does not call this.
 void cleanUpStagingOnSignals();
 
 // Writes `bytes` to `path` (create or truncate) and checks every step, including the close.

@@ -305,6 +305,7 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
     const bool rays_mode = state.options.visibility == VisibilityMode::Rays;
     int level = 0;
     while (!pending.empty()) {
+        if (state.runner.cancelled()) return;  // the solver stops after this phase
         std::vector<Evaluation> evals(pending.size());
         state.runner.forEach(pending.size(), 8, [&](size_t i) { evals[i] = evaluate(state, pending[i]); });
         s.stats.candidate_links += pending.size();

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "radiosity/parallel.h"
+#include "core/parallel.h"
 #include "radiosity/solution.h"
 
 namespace radbake {

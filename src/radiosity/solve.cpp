@@ -199,7 +199,7 @@ LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, dou
             result.converged = true;
             break;
         }
-        if (result.iterations >= max_iterations) break;
+        if (result.iterations >= max_iterations || runner.cancelled()) break;
         for (size_t k = 0; k < n; ++k) basis[0][k] = r[k] / beta;
         std::fill(g.begin(), g.end(), 0.0);
         g[0] = beta;

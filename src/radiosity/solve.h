@@ -4,7 +4,7 @@
 // down to the leaves. Solved with restarted GMRES in the area-weighted inner product: at
 // rho = 0.99 plain Jacobi needs ~230 sweeps per decade, GMRES a few tens of steps in all.
 // Deterministic: every sum runs in a fixed order whatever the thread count.
-#include "radiosity/parallel.h"
+#include "core/parallel.h"
 #include "radiosity/solution.h"
 
 namespace radbake {

@@ -5,7 +5,7 @@
 
 #include "geometry/parts.h"
 #include "radiosity/elements.h"
-#include "radiosity/parallel.h"
+#include "core/parallel.h"
 #include "radiosity/refine.h"
 #include "radiosity/solution.h"
 #include "radiosity/solve.h"
@@ -98,12 +98,19 @@ Solution& Solution::operator=(Solution&&) noexcept = default;
 
 namespace {
 
-void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& options, Progress& progress,
-                 Diagnostics& diagnostics, Solution& s) {
-    ParallelRunner runner(options.threads, options.pin_threads);
+// Thrown between phases once progress is cancelled; solveRadiosity returns nullopt for it.
+struct Cancelled {};
+
+void stopIfCancelled(const ParallelRunner& runner) {
+    if (runner.cancelled()) throw Cancelled{};
+}
+
+void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& options, ParallelRunner& runner,
+                 Progress& progress, Diagnostics& diagnostics, Solution& s) {
     RefineState state = makeRefineState(scene, parts, options, runner, s);
     progress.beginPhase("direct light");
     computeDirectLight(state);
+    stopIfCancelled(runner);
     for (Element& e : s.elements) e.radiosity = e.emission;
     pullRadiosity(s);
     std::vector<PendingLink> pending = initialLinks(state);
@@ -113,10 +120,13 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         const std::string suffix = round == 0 ? "" : " " + std::to_string(round + 1);
         progress.beginPhase("links" + suffix);
         refineLinks(state, std::move(pending), progress);
+        stopIfCancelled(runner);
         computeDirectLight(state);  // elements made by the refinement
         groupLinksByReceiver(s, &state.records);
+        stopIfCancelled(runner);
         progress.beginPhase("solve" + suffix);
         result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
+        stopIfCancelled(runner);
         s.stats.iterations += result.iterations;
         s.stats.rounds = round + 1;
         if (round + 1 == rounds) break;
@@ -136,7 +146,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
 }  // namespace
 
 std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts, const SolverOptions& options,
-                                       Progress& progress, Diagnostics& diagnostics) {
+                                       ParallelRunner& runner, Progress& progress, Diagnostics& diagnostics) {
     try {
         Solution s;
         s.scene = &scene;
@@ -149,9 +159,9 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
             s.stats.converged = true;
             return s;
         }
-        s.rays = RayCaster::build(scene, diagnostics);
+        s.rays = RayCaster::build(scene, diagnostics, runner.threads());
         if (!s.rays) return std::nullopt;
-        solveRounds(scene, parts, options, progress, diagnostics, s);
+        solveRounds(scene, parts, options, runner, progress, diagnostics, s);
         s.rays->reportLateErrors(diagnostics);
         s.stats.elements = s.elements.size();
         s.stats.roots = s.root_count;
@@ -161,6 +171,8 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
         for (const Element& e : s.elements) s.stats.leaves += e.isLeaf() ? 1 : 0;
         for (const Link& l : s.links) s.stats.partial_links += l.visibility < 1.0f ? 1 : 0;
         return s;
+    } catch (const Cancelled&) {
+        progress.endPhase();
     } catch (const std::exception& e) {
         diagnostics.error({scene.source_path, 0, 0}, std::string("radiosity solve failed: ") + e.what());
     } catch (...) {

@@ -47,7 +47,6 @@ struct SolverOptions {
     double min_element_area = 1e-4;    // relative to the scene's total area
     double iteration_tolerance = 1e-4; // stop when |E + rho K B - B| / |E| (area-weighted) is below this
     int max_iterations = 200;          // operator applications (GMRES steps) per solve, then a warning
-    int threads = 0;                   // 0: all cores
 
     // Finer knobs, set by forQuality.
     int refine_rounds = 2;             // refine-solve rounds (the first with emitted light only)
@@ -62,7 +61,6 @@ struct SolverOptions {
                                            // a leaf its polygon split, until radius / distance is below this
     double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
                                            // radius / distance, so a sliver of light is not lost between rays
-    bool pin_threads = true;           // pin the solver's workers to cores
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
     double local_error_threshold = 0.1;   // fraction of its own irradiance a link may vary over a
                                           // receiver (above; 0: off; needs refine_rounds >= 2)

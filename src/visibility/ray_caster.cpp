@@ -2,6 +2,8 @@
 // reports goes to Diagnostics; nothing thrown here leaves this file.
 #include "visibility/ray_caster.h"
 
+#include "core/parallel.h"
+
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -395,8 +397,10 @@ std::unique_ptr<RayCaster> RayCaster::build(const Scene& scene, Diagnostics& dia
             return had;
         };
 
-        const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
-        impl->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
+        // No "threads=N" in the device config: Embree turns it into a process-wide TBB limit
+        // (tbb::global_control) that would bind the host program and every other bake. The
+        // build runs in an arena of our own instead (below).
+        impl->device = rtcNewDevice(nullptr);
         if (!impl->device) {
             diagnostics.error(where, "ray caster: Embree device creation failed (error " +
                                          std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
@@ -443,7 +447,7 @@ std::unique_ptr<RayCaster> RayCaster::build(const Scene& scene, Diagnostics& dia
         if (skipped > 0)
             diagnostics.warning(where, "ray caster: skipped " + std::to_string(skipped) +
                                            " triangle(s) with out-of-range indices or non-finite vertices");
-        rtcCommitScene(impl->scene);
+        ParallelRunner(Threading{threads, false}).execute([&] { rtcCommitScene(impl->scene); });
         if (flushErrors()) return nullptr;
 
         {

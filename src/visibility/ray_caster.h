@@ -43,8 +43,8 @@ public:
     // Builds the acceleration structure (robust, high quality). Returns nullptr after an error
     // reported to `diagnostics` (Embree's device or build errors); never throws. Triangles with
     // out-of-range indices or non-finite vertices are skipped with a warning. `threads` caps
-    // the threads Embree builds with (0: Embree's default, all cores); queries run on the
-    // caller's threads. The structure's answers do not depend on it.
+    // the threads Embree builds with (0: all cores), in an arena of its own (no process-wide
+    // limit is set); queries run on the caller's threads. The structure's answers do not depend on it.
     static std::unique_ptr<RayCaster> build(const Scene& scene, Diagnostics& diagnostics, int threads = 0);
     ~RayCaster();
     RayCaster(const RayCaster&) = delete;

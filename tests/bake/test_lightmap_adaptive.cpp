@@ -21,7 +21,7 @@ Scene floorScene() { return sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 
 
 LightmapLayout layoutOf(const Scene& scene, double density) {
     LightmapOptions options;
-    options.texel_density = density;
+    options.texels_per_metre = density;
     LightmapLayout layout;
     Diagnostics diagnostics;
     REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
@@ -29,7 +29,8 @@ LightmapLayout layoutOf(const Scene& scene, double density) {
 }
 
 Lightmaps bakeWith(const LightmapLayout& layout, const IrradianceFunction& f, double tolerance, int threads = 0) {
-    return evaluateLightmaps(layout, f, 2, threads, tolerance);
+    ParallelRunner runner(Threading{.threads = threads});
+    return evaluateLightmaps(layout, f, 2, runner, tolerance);
 }
 
 // Worst |adaptive - exhaustive| / (tolerance * max(|exhaustive|, 1% of the brightest texel))

@@ -18,7 +18,8 @@ Lightmaps bake(const Scene& scene, const LightmapOptions& options, const Irradia
     LightmapLayout layout;
     Diagnostics diagnostics;
     REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
-    return evaluateLightmaps(std::move(layout), f, options.padding, threads);
+    ParallelRunner runner(Threading{.threads = threads});
+    return evaluateLightmaps(std::move(layout), f, options.padding, runner);
 }
 
 // H / pi = 1 + x + 2 z: a plane of light over the floor.
@@ -38,7 +39,7 @@ TEST_CASE("covered texels hold H/pi at a point of their own triangle and square"
     // A triangle floor facing +Y, 3 m by 2 m: half its chart rectangle is empty.
     const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 0}})});
     LightmapOptions options;
-    options.texel_density = 8.0;
+    options.texels_per_metre = 8.0;
     options.padding = 2;
     const Lightmaps lightmaps = bake(scene, options, linearField);
     REQUIRE(lightmaps.layout.charts.size() == 1);
@@ -98,7 +99,7 @@ TEST_CASE("dilation fills every padding texel from its own chart only") {
     const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}),
                                  lightmap_test::polygonMesh({{5, 0, 0}, {6, 0, 0}, {6, 0, 1}, {5, 0, 1}})});
     LightmapOptions options;
-    options.texel_density = 6.0;
+    options.texels_per_metre = 6.0;
     options.padding = 3;
     const Lightmaps lightmaps =
         bake(scene, options, [](const DVec3&, const DVec3& n) { return DVec3(kPi * (n.y > 0 ? 1.0 : 5.0)); });
@@ -125,7 +126,7 @@ TEST_CASE("texels do not depend on the thread count") {
     const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 2}, {3, 0, 0}}),
                                  lightmap_test::polygonMesh({{0, 0, 0}, {0, 2, 0}, {0, 2, 2}, {0, 0, 2}})});
     LightmapOptions options;
-    options.texel_density = 10.0;
+    options.texels_per_metre = 10.0;
     const Lightmaps one = bake(scene, options, linearField, 1);
     const Lightmaps two = bake(scene, options, linearField, 2);
     REQUIRE(one.images.size() == two.images.size());

@@ -88,7 +88,7 @@ TEST_CASE("a cube gives 6 charts, one per face, with shared or split vertices") 
         const Scene scene = sceneOf({cubeMesh(2.0f, share)});
         CHECK(scene.meshes[0].positions.size() == (share ? 8u : 24u));
         LightmapOptions options;
-        options.texel_density = 10.0;
+        options.texels_per_metre = 10.0;
         const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
         REQUIRE(charts.size() == 6);
         std::set<uint32_t> triangles;
@@ -121,7 +121,7 @@ TEST_CASE("coplanar polygons join only when connected; tiny and degenerate ones"
     addQuad(mesh, {{9, 0, 0}, {9.5f, 0, 0}, {10, 0, 0}}, true);
     const Scene scene = sceneOf({mesh});
     LightmapOptions options;
-    options.texel_density = 8.0;
+    options.texels_per_metre = 8.0;
     options.min_chart_texels = 3;
     const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
     REQUIRE(charts.size() == 3);
@@ -143,7 +143,7 @@ TEST_CASE("a floor larger than the cap is split into cap-sized pieces that keep 
     addQuad(floor, {{0, 0, 0}, {0, 0, 4}, {10, 0, 4}, {10, 0, 0}}, true);  // 10 x 4 m, facing +Y
     const Scene scene = sceneOf({floor});
     LightmapOptions options;
-    options.texel_density = 16.0;  // 160 x 64 texels
+    options.texels_per_metre = 16.0;  // 160 x 64 texels
     options.max_chart_texels = 48;
     const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
     // ceil(160 / 48) = 4 columns by ceil(64 / 48) = 2 rows; the floor's axes are world X and Z.
@@ -173,7 +173,7 @@ TEST_CASE("the cap never exceeds what an atlas holds with padding") {
     Mesh floor;
     addQuad(floor, {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}}, true);
     LightmapOptions options;
-    options.texel_density = 32.0;  // 128 texels
+    options.texels_per_metre = 32.0;  // 128 texels
     options.max_chart_texels = 1000;
     options.atlas_size = 64;
     options.padding = 2;  // at most 60 texels a side
@@ -226,7 +226,7 @@ TEST_CASE("charts grow across smooth edges within the cone, without overlap or f
         CHECK(glm::dot(glm::cross(b - a, c - a), DVec3(centre.x, 0.0, centre.z)) > 0.0);
     }
     LightmapOptions options;
-    options.texel_density = 16.0;
+    options.texels_per_metre = 16.0;
     const std::vector<LightmapChart> charts = buildLightmapCharts(scene, options);
     // 360 degrees of facets, at most 7 facets (+-3 around the seed) within a 35 degree cone.
     CHECK(charts.size() >= 5);
@@ -284,7 +284,7 @@ TEST_CASE("a cube with a large crease angle is still 6 charts") {
         Mesh cube = cubeMesh(1.0f, share);
         cube.crease_angle = 1.2f;  // 69 degrees: its 90 degree edges are still creases
         LightmapOptions options;
-        options.texel_density = 10.0;
+        options.texels_per_metre = 10.0;
         CHECK(buildLightmapCharts(sceneOf({cube}), options).size() == 6);
         cube.crease_angle = 1.6f;  // above 90 degrees: the edges are smooth, but 90 > the 35 degree cone
         CHECK(buildLightmapCharts(sceneOf({cube}), options).size() == 6);

@@ -42,7 +42,7 @@ TEST_CASE("lightmap meshes keep the surface and put every UV inside its chart") 
     scene.materials.resize(1);
     scene.meshes = {boxWithoutBottom(3.0f)};
     LightmapOptions options;
-    options.texel_density = 16.0;  // 48 texels a side
+    options.texels_per_metre = 16.0;  // 48 texels a side
     options.max_chart_texels = 20; // the cap cuts every face into 3 x 3 pieces
     options.atlas_size = 256;
     LightmapLayout layout;
@@ -90,7 +90,7 @@ TEST_CASE("lightmap vertices carry source attributes: positions interpolate back
     scene.materials.resize(1);
     scene.meshes = {boxWithoutBottom(2.0f)};
     LightmapOptions options;
-    options.texel_density = 10.0;
+    options.texels_per_metre = 10.0;
     options.max_chart_texels = 7;  // cuts make vertices in the middle of source triangles
     options.atlas_size = 128;
     LightmapLayout layout;
@@ -132,7 +132,7 @@ TEST_CASE("a chart bent across smooth edges keeps its vertices on their own face
     scene.materials.resize(1);
     scene.meshes = {half};
     LightmapOptions options;
-    options.texel_density = 12.0;
+    options.texels_per_metre = 12.0;
     options.max_chart_texels = 10;  // and cut by the cap: pieces of bent charts
     options.atlas_size = 256;
     LightmapLayout layout;

@@ -36,8 +36,9 @@ Lightmaps bakeField(const Scene& scene, const LightmapOptions& options, int thre
     LightmapLayout layout;
     Diagnostics diagnostics;
     REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
-    Lightmaps lightmaps = evaluateLightmaps(std::move(layout), field, options.padding, threads);
-    if (options.stitch_seams) stitchLightmaps(scene, lightmaps, field, options.padding, threads);
+    ParallelRunner runner(Threading{.threads = threads});
+    Lightmaps lightmaps = evaluateLightmaps(std::move(layout), field, options.padding, runner);
+    if (options.stitch_seams) stitchLightmaps(scene, lightmaps, field, options.padding, runner);
     return lightmaps;
 }
 
@@ -54,7 +55,7 @@ TEST_CASE("both pieces of a floor cut by the cap give the same light along the c
     // x = 1.5, x = 3 and (the plane's v axis is -z, counted from z = 2) z = 0.5.
     const Scene scene = sceneOf({floorMesh(4.0f, 2.0f)});
     LightmapOptions options;
-    options.texel_density = 8.0;
+    options.texels_per_metre = 8.0;
     options.max_chart_texels = 12;
     options.atlas_size = 128;
     options.stitch_seams = false;
@@ -124,7 +125,7 @@ TEST_CASE("both pieces of a floor cut by the cap give the same light along the c
 TEST_CASE("stitching does not depend on the thread count") {
     const Scene scene = sceneOf({floorMesh(4.0f, 2.0f)});
     LightmapOptions options;
-    options.texel_density = 8.0;
+    options.texels_per_metre = 8.0;
     options.max_chart_texels = 12;
     options.atlas_size = 128;
     const Lightmaps one = bakeField(scene, options, 1);
@@ -138,13 +139,13 @@ TEST_CASE("edge light is evaluated once per point and interpolated where it is s
     // The cut floor: both sides of every cut see one point with one normal.
     const Scene scene = sceneOf({floorMesh(4.0f, 2.0f)});
     LightmapOptions options;
-    options.texel_density = 8.0;
+    options.texels_per_metre = 8.0;
     options.max_chart_texels = 12;
     options.atlas_size = 128;
     options.stitch_seams = false;
     const auto stitched = [&](double tolerance) {
         Lightmaps lightmaps = bakeField(scene, options, 2);
-        stitchLightmaps(scene, lightmaps, field, options.padding, 2, tolerance);
+        stitchLightmaps(scene, lightmaps, field, options.padding, test::testRunner(), tolerance);
         return lightmaps;
     };
     const Lightmaps exact = stitched(0.0), smooth = stitched(0.2);
@@ -169,8 +170,8 @@ TEST_CASE("edge light is evaluated once per point and interpolated where it is s
         LightmapLayout layout;
         Diagnostics diagnostics;
         REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
-        Lightmaps lightmaps = evaluateLightmaps(std::move(layout), f, options.padding, 2);
-        stats = stitchLightmaps(scene, lightmaps, f, options.padding, 2, 0.01);
+        Lightmaps lightmaps = evaluateLightmaps(std::move(layout), f, options.padding, test::testRunner());
+        stats = stitchLightmaps(scene, lightmaps, f, options.padding, test::testRunner(), 0.01);
         return lightmaps;
     };
     StitchStats flat_stats, step_stats;
@@ -199,13 +200,12 @@ TEST_CASE("lit box room: the lightmap at each chart corner agrees with the verte
     addQuad(scene, lamp, {0.3f, 0.3f, 1.45f}, {0.3f, 0.8f, 1.45f}, {0.8f, 0.8f, 1.45f}, {0.8f, 0.3f, 1.45f});
     Diagnostics diagnostics;
     SolverOptions solver = SolverOptions::forQuality(Quality::Draft);
-    solver.threads = 2;
     const auto solution = solve(scene, solver, diagnostics);
     REQUIRE(solution);
-    const VertexBake vertex_bake = bakeVertices(scene, *solution);
+    const VertexBake vertex_bake = bakeVertices(scene, *solution, test::testRunner());
 
     LightmapOptions options;
-    options.texel_density = 8.0;  // 16 x 16 texels on the floor
+    options.texels_per_metre = 8.0;  // 16 x 16 texels on the floor
     options.atlas_size = 256;
     const auto cornerGaps = [&](const Lightmaps& lightmaps, size_t& corners) {
         double worst = 0.0;
@@ -231,10 +231,10 @@ TEST_CASE("lit box room: the lightmap at each chart corner agrees with the verte
     // lightmap_seams.cpp) and float rounding. Tolerance 2e-3 relative.
     options.stitch_seams = false;
     Lightmaps dilated;
-    REQUIRE(bakeLightmaps(scene, *solution, options, dilated, diagnostics));
+    REQUIRE(bakeLightmaps(scene, *solution, chartLightmaps(scene, options), test::testRunner(), dilated, diagnostics));
     options.stitch_seams = true;
     Lightmaps stitched;
-    REQUIRE(bakeLightmaps(scene, *solution, options, stitched, diagnostics));
+    REQUIRE(bakeLightmaps(scene, *solution, chartLightmaps(scene, options), test::testRunner(), stitched, diagnostics));
     size_t corners_dilated = 0, corners_stitched = 0;
     const double gap_dilated = cornerGaps(dilated, corners_dilated);
     const double gap_stitched = cornerGaps(stitched, corners_stitched);
@@ -268,14 +268,15 @@ TEST_CASE("charts of a smooth cylinder meeting at an edge give the same light th
     // Light that depends on the facing (the two faces at a seam see different light) and on height.
     const IrradianceFunction facing = [](const DVec3& p, const DVec3& n) { return kPi * DVec3(2.0 + n.x + p.y, 2.0 + n.z, 1.0); };
     LightmapOptions options;
-    options.texel_density = 10.0;
+    options.texels_per_metre = 10.0;
     options.atlas_size = 256;
     LightmapLayout layout;
     Diagnostics diagnostics;
     REQUIRE(packLightmapCharts(buildLightmapCharts(scene, options), options, layout, diagnostics));
     const size_t charts = layout.charts.size();
     CHECK(charts < 10);
-    Lightmaps lightmaps = evaluateLightmaps(std::move(layout), facing, options.padding, 1);
+    ParallelRunner one_thread(Threading{.threads = 1});
+    Lightmaps lightmaps = evaluateLightmaps(std::move(layout), facing, options.padding, one_thread);
     const ChartEdges edges = findChartEdges(scene, lightmaps.layout);
     // Every chart meets two others, along vertical edges the whole height.
     double seam_height = 0.0;
@@ -286,7 +287,7 @@ TEST_CASE("charts of a smooth cylinder meeting at an edge give the same light th
     }
     CHECK(seam_height == doctest::Approx(2.0));
     CHECK(edges.seams.size() >= charts * (2 * 20 + 1));  // two samples per texel of 20, ends included
-    const StitchStats stats = stitchLightmaps(scene, lightmaps, facing, options.padding, 1);
+    const StitchStats stats = stitchLightmaps(scene, lightmaps, facing, options.padding, one_thread);
     CHECK(stats.max_seam_before > 0.02);
     for (const SeamSample& s : edges.seams) {
         const DVec3 a = bilinearLookup(lightmaps.images[0], s.a.texel), b = bilinearLookup(lightmaps.images[0], s.b.texel);

@@ -13,10 +13,9 @@ TEST_CASE("closed emitting box: every vertex, corners included, holds L_e / (1 -
     addInwardBox(scene, m, Vec3(0.0f), Vec3(1.0f));
     Diagnostics diagnostics;
     SolverOptions options = SolverOptions::forQuality(Quality::Medium);
-    options.threads = 1;
-    const auto solution = solve(scene, options, diagnostics);
+    const auto solution = solve(scene, options, diagnostics, 1);
     REQUIRE(solution);
-    const VertexBake bake = bakeVertices(scene, *solution);
+    const VertexBake bake = bakeVertices(scene, *solution, test::testRunner());
     REQUIRE(bake.values.size() == 6);
     for (const auto& mesh_values : bake.values) {
         REQUIRE(mesh_values.size() == 4);
@@ -36,10 +35,9 @@ TEST_CASE("coincident vertices of neighbouring faces with the same normal get th
     addQuad(scene, lamp, {0.5f, 0.2f, 1}, {0.5f, 0.8f, 1}, {1.7f, 0.8f, 1}, {1.7f, 0.2f, 1});
     Diagnostics diagnostics;
     SolverOptions options = SolverOptions::forQuality(Quality::Medium);
-    options.threads = 2;
-    const auto solution = solve(scene, options, diagnostics);
+    const auto solution = solve(scene, options, diagnostics, 2);
     REQUIRE(solution);
-    const VertexBake bake = bakeVertices(scene, *solution);
+    const VertexBake bake = bakeVertices(scene, *solution, test::testRunner());
     // Tile 0's vertices 1 (1,0,0) and 2 (1,1,0) are tile 1's vertices 0 and 3.
     CHECK(bake.values[0][1] == bake.values[1][0]);
     CHECK(bake.values[0][2] == bake.values[1][3]);

@@ -263,12 +263,13 @@ LightmappedQuad lightmappedQuad(const IrradianceFunction& irradiance) {
     out.scene.materials = {material(Vec3(0.5f), Vec3(0.0f))};
     out.scene.meshes.push_back(quadMesh(Vec3(-1, -0.75f, 0), Vec3(2, 0, 0), Vec3(0, 1.5f, 0), 0));
     LightmapOptions options;
-    options.texel_density = 16.0;
+    options.texels_per_metre = 16.0;
     options.atlas_size = 128;
     Diagnostics diagnostics;
     LightmapLayout layout;
     REQUIRE(packLightmapCharts(buildLightmapCharts(out.scene, options), options, layout, diagnostics));
-    out.lightmaps = evaluateLightmaps(layout, irradiance, options.padding, 1);
+    ParallelRunner runner(Threading{.threads = 1});
+    out.lightmaps = evaluateLightmaps(layout, irradiance, options.padding, runner);
     out.meshes = lightmapMeshes(out.scene, out.lightmaps.layout);
     REQUIRE(out.meshes.size() == 1);
     REQUIRE(!out.meshes[0].triangles.empty());

@@ -32,10 +32,10 @@ int solveAndCompare(const std::string& name) {
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
     SolverOptions options = SolverOptions::forQuality(Quality::Medium);
     options.quality = Quality::Medium;
-    options.threads = 2;
     Progress progress(false);
+    ParallelRunner runner(Threading{.threads = 2});
     const auto start = std::chrono::steady_clock::now();
-    const std::optional<Solution> solution = solveRadiosity(*scene, parts, options, progress, diagnostics);
+    const std::optional<Solution> solution = solveRadiosity(*scene, parts, options, runner, progress, diagnostics);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     REQUIRE(solution.has_value());
     // Printed, never asserted: speed is measured by tools/, not by tests.

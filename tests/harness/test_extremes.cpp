@@ -27,7 +27,6 @@ doctest::Approx rel(double expected, double epsilon) { return doctest::Approx(ex
 
 SolverOptions medium() {
     SolverOptions o = SolverOptions::forQuality(Quality::Medium);
-    o.threads = 2;
     return o;
 }
 

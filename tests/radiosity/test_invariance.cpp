@@ -23,9 +23,8 @@ Scene room(float scale) {
     return scene;
 }
 
-SolverOptions options(int threads, VisibilityMode mode = VisibilityMode::Exact) {
+SolverOptions options(VisibilityMode mode = VisibilityMode::Exact) {
     SolverOptions o = SolverOptions::forQuality(Quality::Medium);
-    o.threads = threads;
     o.visibility = mode;
     return o;
 }
@@ -37,8 +36,8 @@ TEST_CASE("threads = 1 and 2 give the same result bytes") {
     for (const VisibilityMode mode : {VisibilityMode::Rays, VisibilityMode::Exact}) {
         CAPTURE(toString(mode));
         Diagnostics d1, d2;
-        const auto one = solve(scene, options(1, mode), d1);
-        const auto two = solve(scene, options(2, mode), d2);
+        const auto one = solve(scene, options(mode), d1, 1);
+        const auto two = solve(scene, options(mode), d2, 2);
         REQUIRE(one);
         REQUIRE(two);
         REQUIRE(one->elements.size() == two->elements.size());
@@ -72,12 +71,12 @@ TEST_CASE("threads = 1 and 2 give the same result bytes") {
 TEST_CASE("a scene scaled by 1e-4 or 1e6 refines the same way and gives the same radiosity") {
     Diagnostics d;
     const Scene base_scene = room(1.0f);
-    const auto base = solve(base_scene, options(1), d);
+    const auto base = solve(base_scene, options(), d, 1);
     REQUIRE(base);
     for (const float scale : {1e-4f, 1e6f}) {
         CAPTURE(scale);
         const Scene scene = room(scale);  // a Solution refers to its scene
-        const auto scaled = solve(scene, options(1), d);
+        const auto scaled = solve(scene, options(), d, 1);
         REQUIRE(scaled);
         CHECK(scaled->stats.elements == base->stats.elements);
         // Float rounding of the scaled positions may flip an oracle decision at the margin.

@@ -44,9 +44,8 @@ TEST_CASE("probe under a half-hidden emitting square: the visible rectangle's cl
     std::vector<double> per_thread_count;  // bit-identical whatever the thread count
     for (const int threads : {1, 2}) {
         SolverOptions options = SolverOptions::forQuality(Quality::Medium);
-        options.threads = threads;
         Diagnostics diagnostics;
-        const auto solution = solve(scene, options, diagnostics);
+        const auto solution = solve(scene, options, diagnostics, threads);
         REQUIRE(solution);
         // Under the plate's edge: 30 % of the square visible (a 2 x 2 grid gives 25 or 50 %).
         const DVec3 lit(0.0, 0.0, 0.0);

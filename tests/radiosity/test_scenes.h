@@ -62,10 +62,18 @@ inline void addOutwardBox(Scene& scene, uint32_t material, Vec3 lo, Vec3 hi) {
     scene.meshes.push_back(solid);
 }
 
-inline std::optional<Solution> solve(const Scene& scene, const SolverOptions& options, Diagnostics& diagnostics) {
+// Two worker threads for the stages that take a runner (results do not depend on it).
+inline ParallelRunner& testRunner() {
+    static ParallelRunner runner(Threading{.threads = 2});
+    return runner;
+}
+
+inline std::optional<Solution> solve(const Scene& scene, const SolverOptions& options, Diagnostics& diagnostics,
+                                     int threads = 2) {
     const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
     Progress progress(false);
-    auto solution = solveRadiosity(scene, parts, options, progress, diagnostics);
+    ParallelRunner runner(Threading{.threads = threads});
+    auto solution = solveRadiosity(scene, parts, options, runner, progress, diagnostics);
     if (!solution)  // say why, so the REQUIRE that follows is not a bare {?}
         for (const Diagnostic& d : diagnostics.all()) MESSAGE("solve failed: " << d.message);
     return solution;

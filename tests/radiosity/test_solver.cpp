@@ -14,10 +14,9 @@ namespace {
 
 constexpr double kPerpendicularUnit = 0.200043776075403154;
 
-SolverOptions medium(VisibilityMode mode = VisibilityMode::Exact, int threads = 1) {
+SolverOptions medium(VisibilityMode mode = VisibilityMode::Exact) {
     SolverOptions o = SolverOptions::forQuality(Quality::Medium);
     o.visibility = mode;
-    o.threads = threads;
     return o;
 }
 
@@ -130,7 +129,6 @@ TEST_CASE("closed emitting box at high quality: within 0.3 %") {
         CAPTURE(rho);
         const Scene scene = closedBox(rho, 1.0f);
         SolverOptions options = SolverOptions::forQuality(Quality::High);
-        options.threads = 2;
         Diagnostics diagnostics;
         const auto solution = solve(scene, options, diagnostics);
         REQUIRE(solution);

@@ -1,4 +1,4 @@
-#include "radiosity/parallel.h"
+#include "core/parallel.h"
 
 #include <sched.h>
 
@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 #include <tbb/task_scheduler_observer.h>
 
+#include <algorithm>
 #include <exception>
 #include <mutex>
 
@@ -57,12 +58,12 @@ struct ParallelRunner::Impl {
     explicit Impl(int threads) : arena(threads) {}
 };
 
-ParallelRunner::ParallelRunner(int threads, bool pin) {
+ParallelRunner::ParallelRunner(Threading threading, const std::atomic<bool>* cancel) : cancel_(cancel) {
     const int cores = tbb::info::default_concurrency();
-    threads_ = threads > 0 ? threads : cores;
+    threads_ = threading.threads > 0 ? threading.threads : cores;
     impl_ = std::make_unique<Impl>(threads_);
     // Pin only when each slot can have a core of its own.
-    if (pin && threads_ > 1 && threads_ <= cores) {
+    if (threading.pin && threads_ > 1 && threads_ <= cores) {
         impl_->arena.initialize();
         impl_->observer = std::make_unique<PinningObserver>(impl_->arena, cores);
     }
@@ -71,9 +72,11 @@ ParallelRunner::ParallelRunner(int threads, bool pin) {
 ParallelRunner::~ParallelRunner() = default;
 
 void ParallelRunner::forRanges(size_t count, size_t grain, const std::function<void(size_t, size_t)>& body) {
-    if (count == 0) return;
+    if (count == 0 || cancelled()) return;
     if (threads_ == 1 || count <= grain) {
-        body(0, count);
+        // Still in grain-sized pieces, so a cancel is seen within one piece.
+        const size_t step = std::max<size_t>(grain, 1);
+        for (size_t begin = 0; begin < count && !cancelled(); begin += step) body(begin, std::min(count, begin + step));
         return;
     }
     // Exceptions must not escape a TBB task unseen: keep the first, rethrow it here (the
@@ -83,6 +86,7 @@ void ParallelRunner::forRanges(size_t count, size_t grain, const std::function<v
     impl_->arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, count, grain ? grain : 1),
                           [&](const tbb::blocked_range<size_t>& range) {
+                              if (cancelled()) return;
                               try {
                                   body(range.begin(), range.end());
                               } catch (...) {
@@ -92,6 +96,10 @@ void ParallelRunner::forRanges(size_t count, size_t grain, const std::function<v
                           });
     });
     if (failure) std::rethrow_exception(failure);
+}
+
+void ParallelRunner::execute(const std::function<void()>& work) {
+    impl_->arena.execute(work);  // also with one thread: a nested TBB loop must not spread out
 }
 
 }  // namespace radbake

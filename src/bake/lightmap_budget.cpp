@@ -1,0 +1,58 @@
+#include "bake/lightmap_budget.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace radbake {
+namespace {
+
+std::string formatNumber(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.3g", value);
+    return buffer;
+}
+
+}  // namespace
+
+std::optional<LightmapCharts> chartLightmapsWithinBudget(const Scene& scene, LightmapOptions options,
+                                                         const LightmapBudget& budget, Diagnostics& diagnostics) {
+    const double per_unit = budget.metres_per_unit;
+    const bool given = budget.texels_per_unit > 0.0;
+    // The imported scene is in metres; the option counts texels per scene unit.
+    options.texels_per_metre = given ? budget.texels_per_unit / per_unit : kDefaultTexelsPerMetre;
+    LightmapCharts charts = chartLightmaps(scene, options);
+    const size_t wanted = charts.texels;
+    const SourceLocation where{scene.source_path, 0, 0};
+    if (wanted > budget.max_texels && given) {
+        const double fits = budget.texels_per_unit * std::sqrt(static_cast<double>(budget.max_texels) / wanted);
+        diagnostics.error(where, "lightmaps at --texel-density " + formatNumber(budget.texels_per_unit) + " need " +
+                                     std::to_string(wanted) + " texels, above --max-texels " +
+                                     std::to_string(budget.max_texels) + ": give a density of about " +
+                                     formatNumber(fits) + " or less, or raise --max-texels");
+        return std::nullopt;
+    }
+    // Texels grow with the square of the density; the minimum chart size keeps tiny charts
+    // from shrinking, so step down until the charts fit (or the density cannot help).
+    for (int step = 0; charts.texels > budget.max_texels && step < 8; ++step) {
+        options.texels_per_metre *= 0.97 * std::sqrt(static_cast<double>(budget.max_texels) / charts.texels);
+        charts = chartLightmaps(scene, options);
+    }
+    if (charts.texels > budget.max_texels) {
+        diagnostics.error(where, "lightmaps need " + std::to_string(charts.texels) + " texels even at " +
+                                     formatNumber(options.texels_per_metre * per_unit) +
+                                     " texels per unit, above --max-texels " + std::to_string(budget.max_texels) +
+                                     " (too many small charts): raise --max-texels or bake with --no-lightmaps");
+        return std::nullopt;
+    }
+    if (charts.texels != wanted)
+        diagnostics.warning(where, "lightmaps at the default " + formatNumber(kDefaultTexelsPerMetre) +
+                                       " texels per metre would need " + std::to_string(wanted) +
+                                       " texels, above --max-texels " + std::to_string(budget.max_texels) +
+                                       ": baked at " + formatNumber(options.texels_per_metre * per_unit) +
+                                       " texels per unit instead (" + std::to_string(charts.texels) +
+                                       " texels); --texel-density or --max-texels choose otherwise");
+    return charts;
+}
+
+}  // namespace radbake

@@ -1,0 +1,242 @@
+// bake(): every stage of src/radbake.h in order, in memory. The module boundary of the
+// library: nothing thrown below escapes (reported to Diagnostics instead).
+#include "pipeline/bake.h"
+
+#include <algorithm>
+#include <exception>
+
+#include "bake/lightmap_budget.h"
+#include "bake/lightmap_mesh.h"
+#include "core/parallel.h"
+#include "export/hash.h"
+#include "geometry/parts.h"
+#include "io/import.h"
+
+namespace radbake {
+namespace {
+
+constexpr int kPreviewWidth = 800;
+constexpr int kPreviewHeight = 600;
+
+RgbImage toRgbImage(const LightmapImage& image) {
+    RgbImage out;
+    out.width = image.width;
+    out.height = image.height;
+    out.rgb = image.rgb;
+    return out;
+}
+
+// False (after reporting) when there is nothing to bake; warns when every value would be 0.
+bool checkBakeable(const Scene& scene, Diagnostics& diagnostics) {
+    const SourceLocation where{scene.source_path, 0, 0};
+    if (std::none_of(scene.meshes.begin(), scene.meshes.end(), [](const Mesh& m) { return !m.triangles.empty(); })) {
+        diagnostics.error(where, "nothing to bake: the scene has no surfaces");
+        return false;
+    }
+    const bool emits = std::any_of(scene.meshes.begin(), scene.meshes.end(), [&](const Mesh& m) {
+        return !m.triangles.empty() && m.material < scene.materials.size() && scene.materials[m.material].isEmitter();
+    });
+    if (!emits && scene.lights.empty())
+        diagnostics.warning(where, "the scene has no emissive surface and no light: every baked value will be 0 "
+                                   "(VRML's headlight is not baked)");
+    return true;
+}
+
+LightmapOptions lightmapOptions(const LightmapSettings& settings) {
+    LightmapOptions options;
+    options.atlas_size = settings.atlas_size;
+    options.padding = settings.padding;
+    options.texel_tolerance = settings.texel_tolerance;
+    return options;
+}
+
+// Each probe writes its own slot, so the values do not depend on the thread count.
+std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Probe>& probes, double metres_per_unit,
+                                  ParallelRunner& runner, Progress& progress) {
+    std::vector<DVec3> irradiance(probes.size());
+    std::atomic<size_t> done{0};
+    runner.forEach(probes.size(), 4, [&](size_t i) {
+        irradiance[i] = probeIrradiance(solution, probes[i].position * metres_per_unit, probes[i].normal);
+        progress.update(static_cast<double>(++done) / static_cast<double>(probes.size()));
+    });
+    return irradiance;
+}
+
+void renderPreviews(Bake& out, Diagnostics& diagnostics) {
+    const Scene& scene = *out.scene;
+    const Camera* camera = scene.cameras.empty() ? nullptr : &scene.cameras.front();
+    const BakedLightmaps* baked = out.lightmaps ? &*out.lightmaps : nullptr;
+    RgbImage view = renderBakedView(scene, out.vertices, baked ? &baked->lightmaps : nullptr,
+                                    baked ? &baked->files.meshes : nullptr, camera, kPreviewWidth, kPreviewHeight,
+                                    diagnostics);
+    const double view_exposure = autoExposure(view);
+    out.previews.push_back({"preview/" + scene.name + "_view.png", std::move(view), view_exposure});
+    if (!baked) return;
+    // One exposure for every atlas (the first, fullest one's), so their brightness compares.
+    const std::vector<LightmapImage>& images = baked->lightmaps.images;
+    const double exposure = images.empty() ? 1.0 : autoExposure(toRgbImage(images.front()));
+    for (size_t k = 0; k < images.size(); ++k)
+        out.previews.push_back(
+            {"preview/" + scene.name + "_atlas_" + std::to_string(k) + ".png", toRgbImage(images[k]), exposure});
+}
+
+void fillSceneReport(const Scene& scene, Bake& out) {
+    BakeReport& report = out.report;
+    report.generator = radbakeGenerator();
+    report.scene = scene.source_path;
+    report.meshes = scene.meshes.size();
+    for (const Mesh& mesh : scene.meshes) {
+        report.vertices += mesh.positions.size();
+        report.triangles += mesh.triangles.size();
+    }
+    report.probes = out.options.probes ? out.options.probes->size() : 0;
+}
+
+void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& options, double metres_per_unit,
+                        LightmapReport& report) {
+    const LightmapLayout& layout = baked.lightmaps.layout;
+    report.baked = true;
+    report.texels_per_unit = options.texels_per_metre * metres_per_unit;
+    report.atlas_size = options.atlas_size;
+    report.padding = options.padding;
+    report.charts = layout.charts.size();
+    report.atlases = layout.atlases.size();
+    report.atlas_texels = 0;
+    for (const LightmapAtlas& atlas : layout.atlases)
+        report.atlas_texels += static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
+    report.covered_texels = baked.lightmaps.covered_texels;
+    report.interpolated_texels = baked.lightmaps.interpolated_texels;
+    report.texel_tolerance = options.texel_tolerance;
+    report.occupancy = layout.occupancy;
+}
+
+// Every stage after the import; sets out.status.
+void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
+    const Scene& scene = *out.scene;
+    BakeOptions& options = out.options;
+    const double metres_per_unit = static_cast<double>(options.import.unit_scale);
+    ParallelRunner runner(options.threading, progress.cancelFlag());
+    const auto stopped = [&] {
+        if (progress.cancelled()) out.status = BakeStatus::Cancelled;
+        else if (diagnostics.hasErrors()) out.status = BakeStatus::InputError;
+        else return false;
+        return true;
+    };
+    out.report.threads = runner.threads();
+    if (!checkBakeable(scene, diagnostics)) return (void)stopped();
+    if (!scene.source_path.empty() && std::filesystem::is_regular_file(scene.source_path)) {
+        std::optional<std::string> hash = sha256File(scene.source_path, diagnostics);
+        if (!hash) return (void)stopped();
+        out.scene_sha256 = std::move(*hash);
+    }
+
+    // Before the solve: a lightmap budget error should not cost a solve first.
+    std::optional<LightmapCharts> charts;
+    if (options.lightmaps.enabled) {
+        const LightmapBudget budget{.texels_per_unit = options.lightmaps.texels_per_unit,
+                                    .metres_per_unit = metres_per_unit,
+                                    .max_texels = options.lightmaps.max_texels};
+        charts = chartLightmapsWithinBudget(scene, lightmapOptions(options.lightmaps), budget, diagnostics);
+        if (!charts) return (void)stopped();
+        options.lightmaps.texels_per_unit = charts->options.texels_per_metre * metres_per_unit;
+    }
+
+    progress.beginPhase("parts");
+    const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
+    if (stopped()) return;
+    progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
+    out.solution = solveRadiosity(scene, parts, options.solver, runner, progress, diagnostics);
+    if (stopped()) return;
+    if (!out.solution) {
+        out.status = BakeStatus::InputError;
+        return;
+    }
+    out.report.options = options.solver;
+    out.report.solve = out.solution->stats;
+
+    progress.beginPhase("vertices");
+    out.vertices = bakeVertices(scene, *out.solution, runner);
+    if (stopped()) return;
+
+    if (charts) {
+        progress.beginPhase("lightmaps");
+        const LightmapOptions used = charts->options;
+        BakedLightmaps baked;
+        if (!bakeLightmaps(scene, *out.solution, std::move(*charts), runner, baked.lightmaps, diagnostics) || stopped()) {
+            if (!stopped()) out.status = BakeStatus::InputError;
+            return;
+        }
+        baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
+        for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
+            baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");
+        fillLightmapReport(baked, used, metres_per_unit, out.report.lightmaps);
+        out.lightmaps = std::move(baked);
+    }
+
+    if (options.probes) {
+        progress.beginPhase("probes");
+        out.probe_irradiance = evaluateProbes(*out.solution, *options.probes, metres_per_unit, runner, progress);
+        if (stopped()) return;
+    }
+    if (options.preview) {
+        progress.beginPhase("preview");
+        renderPreviews(out, diagnostics);
+        if (stopped()) return;
+    }
+    progress.endPhase();
+    out.report.phases = progress.phaseSeconds();
+    out.report.seconds = progress.totalSeconds();
+    out.report.peak_rss_mb = peakRssMegabytes();
+    out.report.warnings = diagnostics.warningCount();
+    out.status = BakeStatus::Ok;
+}
+
+Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progress& progress,
+               Diagnostics& diagnostics) {
+    Bake out;
+    out.options = options;
+    out.scene = std::move(scene);
+    fillSceneReport(*out.scene, out);
+    try {
+        bakeStages(out, progress, diagnostics);
+    } catch (const std::exception& e) {
+        diagnostics.error({out.scene->source_path, 0, 0}, std::string("bake failed: ") + e.what());
+        out.status = BakeStatus::InputError;
+    } catch (...) {
+        diagnostics.error({out.scene->source_path, 0, 0}, "bake failed (unknown error)");
+        out.status = BakeStatus::InputError;
+    }
+    if (out.status == BakeStatus::Ok && progress.cancelled()) out.status = BakeStatus::Cancelled;
+    return out;
+}
+
+}  // namespace
+
+const char* toString(BakeStatus status) {
+    switch (status) {
+        case BakeStatus::Ok: return "ok";
+        case BakeStatus::InputError: return "input error";
+        case BakeStatus::Cancelled: return "cancelled";
+    }
+    return "?";
+}
+
+Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+    progress.beginPhase("import");
+    std::optional<Scene> scene = importScene(path, options.import, diagnostics);
+    if (!scene) {
+        Bake failed;
+        failed.options = options;
+        failed.status = progress.cancelled() ? BakeStatus::Cancelled : BakeStatus::InputError;
+        return failed;
+    }
+    return bakeOwned(std::make_unique<Scene>(std::move(*scene)), options, progress, diagnostics);
+}
+
+Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+    BakeOptions in_metres = options;
+    in_metres.import = ImportOptions{};  // a scene in memory is in metres already
+    return bakeOwned(std::make_unique<Scene>(std::move(scene)), in_metres, progress, diagnostics);
+}
+
+}  // namespace radbake

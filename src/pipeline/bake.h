@@ -1,0 +1,73 @@
+#pragma once
+// The whole bake in memory, and the writing of it: what `radbake bake` does, for any program
+// that links the library (an asset importer, a level-build step, a test harness).
+//
+// Fit to live inside another program: no signal handlers, no process-wide TBB limit, threads
+// pinned only when BakeOptions::threading asks; two bakes may run side by side on two
+// threads; Progress::cancel() (from its sink or any thread) makes bake() return promptly
+// with BakeStatus::Cancelled.
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bake/lightmap_bake.h"
+#include "bake/vertex_bake.h"
+#include "core/diagnostics.h"
+#include "core/progress.h"
+#include "export/lightmap_files.h"
+#include "export/preview.h"
+#include "export/stats_json.h"
+#include "pipeline/bake_options.h"
+#include "radiosity/solution.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+enum class BakeStatus {
+    Ok,
+    InputError,  // bad scene, probes or options: located errors are in the Diagnostics
+    Cancelled,   // Progress::cancel() was called; nothing is complete
+};
+const char* toString(BakeStatus status);
+
+struct BakedLightmaps {
+    Lightmaps lightmaps;  // atlases (EXR images), layout, texel counts
+    LightmapFiles files;  // the meshes split at chart seams (TEXCOORD_1) and each atlas's file name
+};
+
+struct PreviewImage {
+    std::string file;     // relative to the bake folder: "preview/<name>_view.png"
+    RgbImage image;       // linear
+    double exposure = 1;  // for encodePreviewPng
+};
+
+struct Bake {
+    BakeStatus status = BakeStatus::InputError;
+    BakeOptions options;                // as used: presets applied, the lightmap density chosen
+    std::unique_ptr<Scene> scene;       // owned here: solution points into it
+    std::optional<Solution> solution;
+    VertexBake vertices;                // H / pi per vertex of every mesh
+    std::optional<BakedLightmaps> lightmaps;
+    std::vector<DVec3> probe_irradiance;  // H (W/m^2) per options.probes entry
+    std::vector<PreviewImage> previews;
+    std::string scene_sha256;           // of the scene file (empty for a scene built in memory)
+    BakeReport report;                  // what stats.json holds
+
+    bool ok() const { return status == BakeStatus::Ok; }
+};
+
+// Reads the scene at `path` (options.import) and bakes it.
+Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
+// Bakes a scene already in memory (e.g. built by an importer), in metres: options.import is
+// not used (probe positions are in metres too).
+Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
+
+// Writes an Ok bake into `out_dir`, all or nothing (OutputTransaction): <name>.glb,
+// <name>.ply, lightmaps/<name>_<k>.exr, probes.csv, preview/*.png, stats.json and
+// manifest.json; files of an older bake that this one does not write are removed. False
+// after reporting; then `out_dir` is as it was.
+bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics);
+
+}  // namespace radbake

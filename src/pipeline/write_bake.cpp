@@ -1,0 +1,125 @@
+// writeBake: every output of a bake staged into one OutputTransaction, committed only when
+// all of them were written.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "export/exr_io.h"
+#include "export/gltf_writer.h"
+#include "export/manifest.h"
+#include "export/output_transaction.h"
+#include "export/ply_writer.h"
+#include "export/probes.h"
+#include "export/stats_json.h"
+#include "pipeline/bake.h"
+
+namespace radbake {
+namespace {
+
+// What an EXR header records of the bake: enough to tell which scene and settings made it.
+// Nothing here depends on the thread count or the clock, so outputs stay byte-identical.
+std::vector<std::pair<std::string, std::string>> provenance(const Bake& bake) {
+    const BakeOptions& o = bake.options;
+    const SolverOptions& solver = o.solver;
+    char knobs[512];
+    std::snprintf(knobs, sizeof knobs,
+                  "quality=%s visibility=%s error_threshold=%g local_error_threshold=%g min_area=%g tolerance=%g "
+                  "max_iterations=%d unit_scale=%g emission_scale=%g texel_density=%g atlas_size=%d padding=%d "
+                  "texel_tolerance=%g",
+                  toString(solver.quality), toString(solver.visibility), solver.error_threshold,
+                  solver.local_error_threshold, solver.min_element_area, solver.iteration_tolerance,
+                  solver.max_iterations, static_cast<double>(o.import.unit_scale),
+                  static_cast<double>(o.import.emission_scale), o.lightmaps.texels_per_unit, o.lightmaps.atlas_size,
+                  o.lightmaps.padding, o.lightmaps.texel_tolerance);
+    return {{"radbake:version", radbakeGenerator()},
+            {"radbake:scene", std::filesystem::path(bake.scene->source_path).filename().string()},
+            {"radbake:scene_sha256", bake.scene_sha256},
+            {"radbake:options", knobs}};
+}
+
+// One EXR per atlas as lightmaps/<name>_<k>.exr, each with the provenance and its atlas number.
+bool stageLightmapExrs(OutputTransaction& transaction, const Bake& bake, Diagnostics& diagnostics) {
+    const BakedLightmaps& baked = *bake.lightmaps;
+    const std::vector<LightmapImage>& images = baked.lightmaps.images;
+    const auto attributes = provenance(bake);
+    for (size_t k = 0; k < images.size(); ++k) {
+        RgbImage image;
+        image.width = images[k].width;
+        image.height = images[k].height;
+        image.rgb = images[k].rgb;
+        image.attributes = attributes;
+        image.attributes.emplace_back("radbake:atlas", std::to_string(k) + " of " + std::to_string(images.size()));
+        image.attributes.emplace_back("radbake:quantity", "H/pi: irradiance over pi, W m^-2 sr^-1, linear");
+        if (!writeExr(transaction.stage(baked.files.atlas_files[k]), image,
+                      ExrWriteOptions{bake.options.lightmaps.exr_float}, diagnostics))
+            return false;
+    }
+    return true;
+}
+
+bool stageAll(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics) {
+    const Scene& scene = *bake.scene;
+    const std::string generator = radbakeGenerator();
+    const LightmapFiles* lightmap_files = bake.lightmaps ? &bake.lightmaps->files : nullptr;
+    GltfOptions gltf;
+    gltf.generator = generator;
+    gltf.lightmaps = lightmap_files;
+    if (!writeGlb(transaction.stage(scene.name + ".glb"), scene, bake.vertices, gltf, diagnostics)) return false;
+    PlyOptions ply;
+    ply.generator = generator;
+    ply.lightmaps = lightmap_files;
+    if (!writePly(transaction.stage(scene.name + ".ply"), scene, bake.vertices, ply, diagnostics)) return false;
+    // Older lightmaps and previews would not match this bake: whatever this run does not
+    // write under those folders is removed on commit.
+    transaction.retireUnstagedIn("lightmaps");
+    transaction.retireUnstagedIn("preview");
+    if (bake.lightmaps && !stageLightmapExrs(transaction, bake, diagnostics)) return false;
+    for (const PreviewImage& preview : bake.previews) {
+        const std::string png = encodePreviewPng(preview.image, preview.exposure);
+        if (png.empty()) {
+            diagnostics.error({preview.file, 0, 0}, "preview: PNG encoding failed");
+            return false;
+        }
+        if (!writeFileBytes(transaction.stage(preview.file), png, diagnostics)) return false;
+    }
+    if (!bake.options.probes) {
+        transaction.retire("probes.csv");  // an older one would not match this bake
+    } else if (!writeProbesCsv(transaction.stage("probes.csv"), *bake.options.probes, bake.probe_irradiance,
+                               diagnostics)) {
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics) {
+    if (!bake.ok() || !bake.scene) {
+        diagnostics.error({out_dir.string(), 0, 0},
+                          std::string("nothing written: the bake did not succeed (") + toString(bake.status) + ")");
+        return false;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    OutputTransaction transaction(out_dir);
+    if (!transaction.begin(diagnostics)) return false;
+    if (!stageAll(bake, transaction, diagnostics)) return false;  // the destructor removes what was staged
+
+    // stats.json last but the manifest, so that its wall time covers every other output.
+    BakeReport report = bake.report;
+    const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report.phases.emplace_back("write", write_seconds);
+    report.seconds += write_seconds;
+    report.peak_rss_mb = peakRssMegabytes();
+    if (!writeStatsJson(transaction.stage("stats.json"), report, diagnostics)) return false;
+    // The manifest last: the size and SHA-256 of every other output.
+    const std::vector<std::string> outputs = transaction.staged();
+    if (!writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), outputs, radbakeGenerator(),
+                       diagnostics))
+        return false;
+    return transaction.commit(diagnostics);
+}
+
+}  // namespace radbake
