@@ -1,0 +1,211 @@
+// The library's whole bake (src/radbake.h): the same answers as the stages called one by
+// one, fit to run inside another program (side by side, cancelled, no process-wide limits),
+// and all-or-nothing writing.
+#include <doctest/doctest.h>
+
+#include <tbb/global_control.h>
+
+#include <atomic>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "radbake.h"
+#include "../export/temp_files.h"
+#include "../radiosity/test_scenes.h"
+
+using namespace radbake;
+using namespace radbake::test;
+using testfs::TempDir;
+
+namespace {
+
+// A closed grey room lit by a ceiling lamp, with a block on the floor: occlusion, bounces,
+// several charts. In metres.
+Scene litRoom() {
+    Scene scene;
+    scene.name = "lit_room";
+    const uint32_t grey = addMaterial(scene, Vec3(0.6f), Vec3(0.0f));
+    const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(5.0f));
+    addInwardBox(scene, grey, Vec3(0.0f), Vec3(2.0f));
+    addOutwardBox(scene, grey, Vec3(0.7f, 0.7f, 0.0f), Vec3(1.2f, 1.2f, 0.6f));
+    // The lamp, just under the ceiling (z = 2), facing down.
+    addQuad(scene, lamp, {0.8f, 0.8f, 1.99f}, {0.8f, 1.2f, 1.99f}, {1.2f, 1.2f, 1.99f}, {1.2f, 0.8f, 1.99f});
+    return scene;
+}
+
+BakeOptions draftOptions(int threads) {
+    BakeOptions options = BakeOptions::forQuality(Quality::Draft);
+    options.threading.threads = threads;
+    Probe on_floor, on_wall;
+    on_floor.position = {0.3, 0.3, 0.01};
+    on_floor.normal = {0.0, 0.0, 1.0};
+    on_wall.position = {0.01, 1.0, 1.0};
+    on_wall.normal = {1.0, 0.0, 0.0};
+    options.probes = std::vector<Probe>{on_floor, on_wall};
+    return options;
+}
+
+Bake bakeQuietly(const Scene& scene, const BakeOptions& options) {
+    Progress progress(false);
+    Diagnostics diagnostics;
+    Bake result = bake(scene, options, progress, diagnostics);
+    for (const Diagnostic& d : diagnostics.all()) MESSAGE(formatDiagnostic(d));
+    return result;
+}
+
+// Bit-for-bit equality of everything a bake computes.
+void checkSameBake(const Bake& a, const Bake& b) {
+    REQUIRE(a.ok());
+    REQUIRE(b.ok());
+    CHECK(a.vertices.values == b.vertices.values);
+    CHECK(a.probe_irradiance == b.probe_irradiance);
+    REQUIRE(a.lightmaps.has_value() == b.lightmaps.has_value());
+    if (!a.lightmaps) return;
+    REQUIRE(a.lightmaps->lightmaps.images.size() == b.lightmaps->lightmaps.images.size());
+    for (size_t k = 0; k < a.lightmaps->lightmaps.images.size(); ++k)
+        CHECK(a.lightmaps->lightmaps.images[k].rgb == b.lightmaps->lightmaps.images[k].rgb);
+    CHECK(a.report.solve.links == b.report.solve.links);
+}
+
+}  // namespace
+
+TEST_CASE("BakeOptions: the default is medium, and forQuality sets every preset, the texel tolerance included") {
+    const BakeOptions defaults;
+    const BakeOptions medium = BakeOptions::forQuality(Quality::Medium);
+    CHECK(std::string(toString(defaults.solver.quality)) == "medium");
+    CHECK(defaults.solver.error_threshold == medium.solver.error_threshold);
+    CHECK(defaults.solver.min_element_area == medium.solver.min_element_area);
+    CHECK(defaults.lightmaps.texel_tolerance == medium.lightmaps.texel_tolerance);
+    CHECK(BakeOptions::forQuality(Quality::Draft).lightmaps.texel_tolerance == 0.05);
+    CHECK(BakeOptions::forQuality(Quality::Reference).lightmaps.texel_tolerance == 0.0);
+    CHECK(BakeOptions::forQuality(Quality::High).solver.error_threshold ==
+          SolverOptions::forQuality(Quality::High).error_threshold);
+    CHECK_FALSE(defaults.threading.pin);  // a library pins only when asked
+}
+
+TEST_CASE("bake() gives what the stages give when called one by one") {
+    const Scene scene = litRoom();
+    const BakeOptions options = draftOptions(2);
+    const Bake whole = bakeQuietly(scene, options);
+    REQUIRE(whole.ok());
+
+    Diagnostics diagnostics;
+    Progress progress(false);
+    ParallelRunner runner(options.threading);
+    const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
+    const std::optional<Solution> solution =
+        solveRadiosity(scene, parts, options.solver, runner, progress, diagnostics);
+    REQUIRE(solution);
+    CHECK(bakeVertices(scene, *solution, runner).values == whole.vertices.values);
+    LightmapOptions lightmap_options;
+    lightmap_options.texel_tolerance = options.lightmaps.texel_tolerance;
+    const std::optional<LightmapCharts> charts =
+        chartLightmapsWithinBudget(scene, lightmap_options, LightmapBudget{}, diagnostics);
+    REQUIRE(charts);
+    Lightmaps lightmaps;
+    REQUIRE(bakeLightmaps(scene, *solution, *charts, runner, lightmaps, diagnostics));
+    REQUIRE(whole.lightmaps);
+    REQUIRE(lightmaps.images.size() == whole.lightmaps->lightmaps.images.size());
+    for (size_t k = 0; k < lightmaps.images.size(); ++k)
+        CHECK(lightmaps.images[k].rgb == whole.lightmaps->lightmaps.images[k].rgb);
+    REQUIRE(whole.probe_irradiance.size() == 2);
+    CHECK(whole.probe_irradiance[0] == probeIrradiance(*solution, DVec3(0.3, 0.3, 0.01), DVec3(0.0, 0.0, 1.0)));
+    CHECK(whole.probe_irradiance[0].x > 0.0);
+    CHECK(whole.report.solve.links == solution->stats.links);
+    CHECK(whole.report.lightmaps.covered_texels == lightmaps.covered_texels);
+    CHECK_FALSE(diagnostics.hasErrors());
+}
+
+TEST_CASE("two bakes side by side in one process give the bytes of one bake alone, on any thread count") {
+    const Scene scene = litRoom();
+    const Bake alone = bakeQuietly(scene, draftOptions(1));
+    Bake first, second;
+    std::thread a([&] { first = bakeQuietly(scene, draftOptions(2)); });
+    std::thread b([&] { second = bakeQuietly(scene, draftOptions(1)); });
+    a.join();
+    b.join();
+    checkSameBake(alone, first);
+    checkSameBake(alone, second);
+}
+
+TEST_CASE("a bake sets no process-wide TBB limit, whatever its thread count") {
+    const auto limit = [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); };
+    const size_t before = limit();
+    // Seen from inside the bake (every phase after the ray caster is built) and after it.
+    Progress progress(false);
+    std::atomic<bool> limited{false};
+    progress.setSink([&](const ProgressEvent&) {
+        if (limit() != before) limited = true;
+    });
+    Diagnostics diagnostics;
+    REQUIRE(bake(litRoom(), draftOptions(1), progress, diagnostics).ok());
+    CHECK_FALSE(limited.load());
+    CHECK(limit() == before);
+}
+
+TEST_CASE("cancelled from the progress sink: the bake stops in that phase and nothing is written") {
+    for (const std::string phase : {"links", "vertices", "lightmaps"}) {
+        CAPTURE(phase);
+        Progress progress(false);
+        std::vector<std::string> seen;
+        progress.setSink([&](const ProgressEvent& event) {
+            if (event.phase_done) return;
+            if (seen.empty() || seen.back() != event.phase) seen.emplace_back(event.phase);
+            if (event.phase == phase) progress.cancel();
+        });
+        Diagnostics diagnostics;
+        const Bake cancelled = bake(litRoom(), draftOptions(2), progress, diagnostics);
+        CHECK(std::string(toString(cancelled.status)) == "cancelled");
+        CHECK_FALSE(diagnostics.hasErrors());
+        REQUIRE_FALSE(seen.empty());
+        CHECK(seen.back() == phase);  // no phase began after the one that cancelled
+
+        const TempDir dir;
+        const std::filesystem::path out = dir.path / "out";
+        Diagnostics write_diagnostics;
+        CHECK_FALSE(writeBake(cancelled, out, write_diagnostics));
+        CHECK(write_diagnostics.hasErrors());
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+}
+
+TEST_CASE("the progress sink sees every phase begin and end, fractions within [0, 1]") {
+    Progress progress(false);
+    std::vector<std::string> begun, ended;
+    bool fractions_ok = true;
+    progress.setSink([&](const ProgressEvent& event) {
+        fractions_ok = fractions_ok && event.fraction >= 0.0 && event.fraction <= 1.0 && event.total_seconds >= 0.0;
+        if (event.phase_done) ended.emplace_back(event.phase);
+        else if (begun.empty() || begun.back() != event.phase) begun.emplace_back(event.phase);
+    });
+    Diagnostics diagnostics;
+    REQUIRE(bake(litRoom(), draftOptions(2), progress, diagnostics).ok());
+    CHECK(fractions_ok);
+    CHECK(begun == ended);
+    const std::vector<std::string> expected = {"parts", "elements", "direct light", "links", "solve", "vertices",
+                                               "lightmaps", "probes"};
+    CHECK(begun == expected);
+}
+
+TEST_CASE("writeBake writes every output of an Ok bake, and nothing for a failed one") {
+    const Bake good = bakeQuietly(litRoom(), draftOptions(2));
+    REQUIRE(good.ok());
+    const TempDir dir;
+    Diagnostics diagnostics;
+    REQUIRE(writeBake(good, dir.path / "good", diagnostics));
+    for (const char* file : {"lit_room.glb", "lit_room.ply", "lightmaps/lit_room_0.exr", "probes.csv", "stats.json",
+                             "manifest.json"})
+        CHECK_MESSAGE(std::filesystem::is_regular_file(dir.path / "good" / file), file);
+
+    Scene empty;
+    empty.name = "empty";
+    Diagnostics bad_diagnostics;
+    Progress progress(false);
+    const Bake bad = bake(empty, BakeOptions{}, progress, bad_diagnostics);
+    CHECK(std::string(toString(bad.status)) == "input error");
+    CHECK(bad_diagnostics.hasErrors());
+    CHECK_FALSE(writeBake(bad, dir.path / "bad", bad_diagnostics));
+    CHECK_FALSE(std::filesystem::exists(dir.path / "bad"));
+}
