@@ -133,18 +133,23 @@ int runBake(const BakeArgs& args) {
     return kExitOk;
 }
 
-// "draft 0.1, medium 0.01, ...": the preset values of one knob, for --help.
-template <typename Field>
-std::string presetValues(Field field) {
+// "draft 0.1, medium 0.01, ...": the preset values of one knob, for --help, read from the
+// presets themselves (BakeOptions::forQuality) so the help never repeats them.
+template <typename Read>
+std::string presetValuesOf(Read read) {
     std::string out;
     for (Quality q : {Quality::Draft, Quality::Medium, Quality::High, Quality::Reference}) {
-        const SolverOptions preset = SolverOptions::forQuality(q);
         char buffer[64];
         std::snprintf(buffer, sizeof buffer, "%s%s %g", out.empty() ? "" : ", ", toString(q),
-                      static_cast<double>(preset.*field));
+                      static_cast<double>(read(BakeOptions::forQuality(q))));
         out += buffer;
     }
     return "default: from --quality (" + out + ")";
+}
+
+template <typename Field>
+std::string presetValues(Field field) {
+    return presetValuesOf([field](const BakeOptions& preset) { return preset.solver.*field; });
 }
 
 }  // namespace
@@ -214,8 +219,8 @@ void addBakeCommand(CLI::App& app, int& result) {
     args->texel_tolerance_option =
         cmd->add_option("--texel-tolerance", args->lightmaps.texel_tolerance,
                         "Interpolate a block of lightmap texels when the texels evaluated in it agree within this "
-                        "fraction (0: evaluate every texel); default: from --quality (draft 0.05, medium 0.02, "
-                        "high 0.01, reference 0)")
+                        "fraction (0: evaluate every texel); " +
+                            presetValuesOf([](const BakeOptions& preset) { return preset.lightmaps.texel_tolerance; }))
             ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--max-texels", args->lightmaps.max_texels,
                     "Most lightmap texels (charts, padding excluded) a bake may evaluate; over it the default "

@@ -31,7 +31,6 @@ int solveAndCompare(const std::string& name) {
     REQUIRE(probes.has_value());
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
     SolverOptions options = SolverOptions::forQuality(Quality::Medium);
-    options.quality = Quality::Medium;
     Progress progress(false);
     ParallelRunner runner(Threading{.threads = 2});
     const auto start = std::chrono::steady_clock::now();
