@@ -53,6 +53,7 @@ Bake bake(const std::string& path, const BakeOptions& options, Progress& progres
 Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
 
 // 6. glb, PLY, EXR atlases, probes.csv, previews, stats.json, manifest.json: all or nothing.
-bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics);
+bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
+               WrittenBake* written /* = nullptr */);
 
 }  // namespace radbake

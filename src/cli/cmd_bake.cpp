@@ -115,7 +115,8 @@ int runBake(const BakeArgs& args) {
     if (!result.ok()) return kExitInputError;
     const std::filesystem::path out_dir = args.out_dir.empty() ? std::filesystem::path("baked") / result.scene->name
                                                                : std::filesystem::path(args.out_dir);
-    if (!writeBake(result, out_dir, diagnostics) || diagnostics.hasErrors()) return kExitInputError;
+    WrittenBake written;
+    if (!writeBake(result, out_dir, diagnostics, &written) || diagnostics.hasErrors()) return kExitInputError;
 
     const SolveStats& s = result.report.solve;
     std::string lightmaps;
@@ -126,10 +127,11 @@ int runBake(const BakeArgs& args) {
         lightmaps = buffer;
     }
     std::printf("radbake: baked %s in %.2f s: %zu elements, %zu links (%zu occluded), %d iterations%s%s, "
-                "%d warning%s -> %s\n",
+                "%d warning%s -> %s (%zu of %zu files changed)\n",
                 args.scene.c_str(), progress.totalSeconds(), s.elements, s.links, s.occluded_links, s.iterations,
                 s.converged ? "" : " (not converged)", lightmaps.c_str(), diagnostics.warningCount(),
-                diagnostics.warningCount() == 1 ? "" : "s", out_dir.lexically_normal().string().c_str());
+                diagnostics.warningCount() == 1 ? "" : "s", out_dir.lexically_normal().string().c_str(), written.changed,
+                written.files.size());
     return kExitOk;
 }
 

@@ -1,6 +1,9 @@
 #include "export/output_transaction.h"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +12,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <string>
 #include <system_error>
 
 namespace radbake {
@@ -28,6 +33,53 @@ fs::path normalisedDir(const fs::path& dir) {
 }
 
 SourceLocation at(const fs::path& p) { return {p.string(), 0, 0}; }
+
+// The process's umask, read without changing it (umask(2) can only be read by setting it,
+// which would race with a host program's other threads); Linux reports it in /proc.
+mode_t currentUmask() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line))
+        if (line.rfind("Umask:", 0) == 0) return static_cast<mode_t>(std::strtoul(line.c_str() + 6, nullptr, 8));
+    const mode_t mask = ::umask(022);
+    ::umask(mask);
+    return mask;
+}
+
+// Same bytes: a file whose content did not change keeps its old inode and time (Ninja's restat).
+bool sameBytes(const fs::path& a, const fs::path& b) {
+    std::error_code ec;
+    if (fs::file_size(a, ec) != fs::file_size(b, ec) || ec) return false;
+    std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+    char ba[1 << 16], bb[1 << 16];
+    while (fa && fb) {
+        fa.read(ba, sizeof ba);
+        fb.read(bb, sizeof bb);
+        if (fa.gcount() != fb.gcount() || std::memcmp(ba, bb, static_cast<size_t>(fa.gcount())) != 0) return false;
+    }
+    return fa.eof() && fb.eof();
+}
+
+// Staging directories a killed bake left (".radbake-tmp-*" inside OUTDIR, ".<name>.radbake-tmp-*"
+// beside it): those whose lock (held by every live bake on its own staging directory) is free.
+void removeStaleStaging(const fs::path& out_dir) {
+    std::error_code ec;
+    const std::string inside = ".radbake-tmp-", beside = "." + out_dir.filename().string() + ".radbake-tmp-";
+    for (const auto& [dir, prefix] : {std::pair{out_dir, inside}, std::pair{out_dir.parent_path(), beside}}) {
+        if (!fs::is_directory(dir, ec)) continue;
+        std::vector<fs::path> stale;
+        for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec))
+            if (entry.is_directory(ec) && entry.path().filename().string().rfind(prefix, 0) == 0)
+                stale.push_back(entry.path());
+        for (const fs::path& path : stale) {
+            // A live bake holds a lock on its own staging directory: only a dead one's opens.
+            const int fd = ::open(path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+            if (fd < 0) continue;
+            if (::flock(fd, LOCK_EX | LOCK_NB) == 0) fs::remove_all(path, ec);
+            ::close(fd);
+        }
+    }
+}
 
 // What the signal handler removes, kept in plain static storage: a handler may only call
 // async-signal-safe functions (unlink, rmdir), so the paths are laid out in advance.
@@ -77,6 +129,38 @@ OutputTransaction::OutputTransaction(fs::path out_dir) : out_dir_(normalisedDir(
 
 OutputTransaction::~OutputTransaction() {
     if (!committed_) abandon();
+    unlock();
+}
+
+void OutputTransaction::unlock() {
+    for (int* fd : {&lock_fd_, &staging_lock_fd_}) {
+        if (*fd >= 0) ::close(*fd);  // closing releases the flock
+        *fd = -1;
+    }
+}
+
+bool OutputTransaction::lock(Diagnostics& diagnostics) {
+    // An existing OUTDIR is locked itself (flock on the directory: no lock file to leave
+    // behind; the kernel releases it when a bake dies, even by SIGKILL). A new OUTDIR needs no
+    // lock: it appears by renaming a whole staging directory, and of two bakes racing to make
+    // it the second rename fails, leaving the first bake's folder whole.
+    std::error_code ec;
+    if (!fs::is_directory(out_dir_, ec)) return true;
+    lock_fd_ = ::open(out_dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (lock_fd_ < 0) {
+        diagnostics.error(at(out_dir_), std::string("cannot open the output directory: ") + std::strerror(errno));
+        return false;
+    }
+    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+        const int saved = errno;
+        unlock();
+        diagnostics.error(at(out_dir_), saved == EWOULDBLOCK
+                                            ? std::string("another bake is writing into this directory; nothing "
+                                                          "written (bake into another directory, or after it)")
+                                            : std::string("cannot lock the output directory: ") + std::strerror(saved));
+        return false;
+    }
+    return true;
 }
 
 bool OutputTransaction::begin(Diagnostics& diagnostics) {
@@ -102,6 +186,11 @@ bool OutputTransaction::begin(Diagnostics& diagnostics) {
         return false;
     }
     created_dirs_.assign(missing.rbegin(), missing.rend());
+    if (!lock(diagnostics)) {
+        abandon();
+        return false;
+    }
+    removeStaleStaging(out_dir_);
 
     // Inside an existing OUTDIR (same file system, nothing written outside it); beside a new
     // one, so that the whole directory can appear in one rename.
@@ -116,6 +205,11 @@ bool OutputTransaction::begin(Diagnostics& diagnostics) {
         return false;
     }
     staging_dir_ = pattern;
+    // mkdtemp makes it 0700; a new OUTDIR is this directory renamed, and must have the mode
+    // any directory the user makes would have.
+    ::chmod(staging_dir_.c_str(), 0777 & ~currentUmask());
+    staging_lock_fd_ = ::open(staging_dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (staging_lock_fd_ >= 0) ::flock(staging_lock_fd_, LOCK_EX);  // ours alone: never waits
     forgetSignalPaths();
     registerSignalPath(staging_dir_);
     return true;
@@ -234,6 +328,7 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
     }
     if (!fs::exists(out_dir_, ec)) {
         // A new OUTDIR appears in one atomic step, complete.
+        changed_ = staged_.size();
         fs::rename(staging_dir_, out_dir_, ec);
         if (ec) {
             diagnostics.error(at(out_dir_), "cannot move outputs into place: " + ec.message());
@@ -242,8 +337,11 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
         forgetSignalPaths();
         committed_ = true;
         staging_dir_.clear();
+        unlock();
         return true;
     }
+    // OUTDIR appeared since begin() (another bake made it): lock it before changing it.
+    if (lock_fd_ < 0 && !lock(diagnostics)) return false;
     if (!commitIntoExisting(diagnostics)) return false;
     forgetSignalPaths();
     committed_ = true;
@@ -253,6 +351,7 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
         const fs::path path = out_dir_ / dir;
         if (fs::is_directory(path, ec) && fs::is_empty(path, ec)) fs::remove(path, ec);
     }
+    unlock();
     return true;
 }
 
@@ -264,6 +363,7 @@ bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
         bool had_old = false;
         bool retired = false;  // no new file: the old one is only moved aside
     };
+    changed_ = 0;
     std::vector<Step> done;
     std::vector<fs::path> made_dirs;  // directories of OUTDIR this commit created, in order
     std::error_code ec;
@@ -315,6 +415,8 @@ bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
             made_dirs.push_back(dir);
         }
         Step step{name, fs::exists(target, ec)};
+        if (step.had_old && sameBytes(staging_dir_ / name, target)) continue;  // unchanged: keep the old file
+        ++changed_;
         if (step.had_old) {
             fs::rename(target, backupOf(name), ec);
             if (ec) {
@@ -342,6 +444,7 @@ void OutputTransaction::abandon() {
     // Deepest first; fs::remove leaves a directory someone else has put files into.
     for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) fs::remove(*it, ec);
     created_dirs_.clear();
+    unlock();
 }
 
 bool writeFileBytes(const fs::path& path, std::string_view bytes, Diagnostics& diagnostics) {

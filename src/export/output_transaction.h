@@ -45,8 +45,13 @@ public:
 
     // Moves every staged file into OUTDIR. When OUTDIR does not exist the staging directory
     // is renamed into place in one step; otherwise files are renamed one by one and the
-    // older files they replace are restored if any rename fails. False after reporting.
+    // older files they replace are restored if any rename fails. A staged file with the same
+    // bytes as the file it would replace leaves the old one in place, time included (so a
+    // build tool's restat sees it unchanged). False after reporting.
     bool commit(Diagnostics& diagnostics);
+
+    // After commit: how many staged outputs were new or changed (the rest kept their file).
+    size_t changedCount() const { return changed_; }
 
     // Removes everything this transaction created; called by the destructor when not committed.
     void abandon();
@@ -67,6 +72,11 @@ private:
     std::vector<std::string> rejected_;                // names stage()/retireUnstagedIn() refused
     std::vector<std::filesystem::path> created_dirs_;  // parents we made, deepest last
     bool committed_ = false;
+    size_t changed_ = 0;
+    int lock_fd_ = -1;          // flock on an existing OUTDIR, held from begin() (one bake at a time)
+    int staging_lock_fd_ = -1;  // flock on the staging directory: it is alive (not a killed bake's)
+    bool lock(Diagnostics& diagnostics);
+    void unlock();
 };
 
 // On SIGINT/SIGTERM/SIGHUP, removes the staged files and the staging directory of the

@@ -64,10 +64,19 @@ Bake bake(const std::string& path, const BakeOptions& options, Progress& progres
 // not used (probe positions are in metres too).
 Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
 
+// What writeBake wrote.
+struct WrittenBake {
+    std::vector<std::string> files;  // relative to the folder, in writing order
+    size_t changed = 0;              // of those, new or with other bytes (the rest kept their file and time)
+};
+
 // Writes an Ok bake into `out_dir`, all or nothing (OutputTransaction): <name>.glb,
 // <name>.ply, lightmaps/<name>_<k>.exr, probes.csv, preview/*.png, stats.json and
-// manifest.json; files of an older bake that this one does not write are removed. False
-// after reporting; then `out_dir` is as it was.
-bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics);
+// manifest.json; files of an older bake that this one does not write are removed, files
+// whose bytes did not change are left as they were (so build tools' restat sees them
+// unchanged). One bake at a time per folder: a second is refused. False after reporting;
+// then `out_dir` is as it was.
+bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
+               WrittenBake* written = nullptr);
 
 }  // namespace radbake

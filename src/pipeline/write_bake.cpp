@@ -96,7 +96,8 @@ bool stageAll(const Bake& bake, OutputTransaction& transaction, Diagnostics& dia
 
 }  // namespace
 
-bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics) {
+bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
+               WrittenBake* written) {
     if (!bake.ok() || !bake.scene) {
         diagnostics.error({out_dir.string(), 0, 0},
                           std::string("nothing written: the bake did not succeed (") + toString(bake.status) + ")");
@@ -119,7 +120,9 @@ bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnosti
     if (!writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), outputs, radbakeGenerator(),
                        diagnostics))
         return false;
-    return transaction.commit(diagnostics);
+    if (!transaction.commit(diagnostics)) return false;
+    if (written) *written = WrittenBake{.files = transaction.staged(), .changed = transaction.changedCount()};
+    return true;
 }
 
 }  // namespace radbake
