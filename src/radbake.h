@@ -22,6 +22,7 @@
 #include "io/import.h"             // ImportOptions
 #include "pipeline/bake.h"         // Bake, BakeStatus, BakedLightmaps
 #include "pipeline/bake_options.h" // BakeOptions, LightmapSettings
+#include "pipeline/depfile.h"      // writeDepfile
 #include "radiosity/solution.h"    // Solution, SolverOptions, SolveStats
 #include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera
 

@@ -27,6 +27,7 @@ struct BakeArgs {
     int threads = 0;
     bool no_pin_threads = false;
     std::string probes;
+    std::string depfile;
     ImportOptions import;
     bool quiet = false;
     bool preview = false;
@@ -117,6 +118,12 @@ int runBake(const BakeArgs& args) {
                                                                : std::filesystem::path(args.out_dir);
     WrittenBake written;
     if (!writeBake(result, out_dir, diagnostics, &written) || diagnostics.hasErrors()) return kExitInputError;
+    if (!args.depfile.empty()) {
+        std::vector<std::string> targets, inputs = result.scene->input_files;
+        for (const std::string& file : written.files) targets.push_back((out_dir / file).lexically_normal().string());
+        if (!args.probes.empty()) inputs.push_back(args.probes);
+        if (!writeDepfile(args.depfile, targets, inputs, diagnostics)) return kExitInputError;
+    }
 
     const SolveStats& s = result.report.solve;
     std::string lightmaps;
@@ -177,6 +184,9 @@ void addBakeCommand(CLI::App& app, int& result) {
                   "Leave worker threads unpinned (by default each is bound to a core of its own)");
     cmd->add_option("--probes", args->probes,
                     "Probe file: one 'x y z nx ny nz' a line (scene units); writes probes.csv with H in W/m^2");
+    cmd->add_option("--depfile", args->depfile,
+                    "Also write a Make-syntax depfile (for Ninja's depfile =, make's include): every output, "
+                    "then every file the bake read (the scene, Inline'd and EXTERNPROTO files, MTL files, probes)");
     cmd->add_option("--unit-scale", args->import.unit_scale, "Metres per scene unit")->capture_default_str();
     cmd->add_option("--emission-scale", args->import.emission_scale, "Multiplies every emitted radiance")
         ->capture_default_str();

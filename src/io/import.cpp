@@ -1,7 +1,8 @@
 #include "io/import.h"
 
-#include <filesystem>
+#include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "io/assimp/assimp_reader.h"
@@ -62,10 +63,19 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
     scene.name = std::filesystem::path(stem).stem().string();
     if (scene.name.empty()) scene.name = "scene";
 
+    std::vector<std::string> files_read;
     const bool ok = looksLikeVrml(firstBytes(path, 16))
-                        ? readVrml(path, VrmlOptions{options.strict}, scene, diagnostics)
-                        : readWithAssimp(path, scene, diagnostics);
+                        ? readVrml(path, VrmlOptions{.strict = options.strict, .files_read = &files_read}, scene,
+                                   diagnostics)
+                        : readWithAssimp(path, scene, diagnostics, &files_read);
     if (!ok || diagnostics.hasErrors()) return std::nullopt;
+    // The scene file first, then each other file once, in the order first read.
+    files_read.insert(files_read.begin(), path);
+    for (const std::string& file : files_read) {
+        const std::string normal = std::filesystem::path(file).lexically_normal().string();
+        if (std::find(scene.input_files.begin(), scene.input_files.end(), normal) == scene.input_files.end())
+            scene.input_files.push_back(normal);
+    }
     applyScales(scene, options);
     if (!validateScene(scene, diagnostics)) return std::nullopt;
     return scene;

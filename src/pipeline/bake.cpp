@@ -129,6 +129,15 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         if (!hash) return (void)stopped();
         out.scene_sha256 = std::move(*hash);
     }
+    if (!scene.input_files.empty()) {
+        std::string hashes;
+        for (const std::string& file : scene.input_files) {
+            std::optional<std::string> hash = sha256File(file, diagnostics);
+            if (!hash) return (void)stopped();
+            hashes += *hash + "\n";
+        }
+        out.inputs_sha256 = sha256Hex(hashes);
+    }
 
     // Before the solve: a lightmap budget error should not cost a solve first.
     std::optional<LightmapCharts> charts;

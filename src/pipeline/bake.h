@@ -53,6 +53,9 @@ struct Bake {
     std::vector<DVec3> probe_irradiance;  // H (W/m^2) per options.probes entry
     std::vector<PreviewImage> previews;
     std::string scene_sha256;           // of the scene file (empty for a scene built in memory)
+    // Of every input file's SHA-256 in Scene::input_files order: an edit to an Inline'd file
+    // or an MTL changes it, though the scene file's own hash stays.
+    std::string inputs_sha256;
     BakeReport report;                  // what stats.json holds
 
     bool ok() const { return status == BakeStatus::Ok; }

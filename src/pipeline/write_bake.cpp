@@ -37,6 +37,8 @@ std::vector<std::pair<std::string, std::string>> provenance(const Bake& bake) {
     return {{"radbake:version", radbakeGenerator()},
             {"radbake:scene", std::filesystem::path(bake.scene->source_path).filename().string()},
             {"radbake:scene_sha256", bake.scene_sha256},
+            {"radbake:inputs_sha256", bake.inputs_sha256},
+            {"radbake:inputs", std::to_string(bake.scene ? bake.scene->input_files.size() : 0)},
             {"radbake:options", knobs}};
 }
 

@@ -75,6 +75,9 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Light> lights;
     std::vector<Camera> cameras;
+    // Every file the import read, the scene file first, each once (Inline'd and EXTERNPROTO
+    // files, MTL files, ...): what a depfile names and what provenance hashes.
+    std::vector<std::string> input_files;
 };
 
 // Summary figures used by `radbake info` and by later stages.

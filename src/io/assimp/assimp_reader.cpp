@@ -2,6 +2,7 @@
 // includes Assimp: nothing of Assimp (types, exceptions, its global logger) leaks out of here.
 #include "io/assimp/assimp_reader.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/Logger.hpp>
@@ -371,9 +372,24 @@ struct Converter {
     }
 };
 
-bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics) {
+// Assimp's own file access, noting every file it opens (the scene, its MTL, ...).
+class RecordingIOSystem final : public Assimp::DefaultIOSystem {
+public:
+    explicit RecordingIOSystem(std::vector<std::string>* files) : files_(files) {}
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        Assimp::IOStream* stream = Assimp::DefaultIOSystem::Open(file, mode);
+        if (stream && files_) files_->emplace_back(file);
+        return stream;
+    }
+
+private:
+    std::vector<std::string>* files_;
+};
+
+bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, std::vector<std::string>* files_read) {
     ScopedLogger logger(path, diagnostics);
     Assimp::Importer importer;
+    importer.SetIOHandler(new RecordingIOSystem(files_read));  // the importer owns it
     // Bone-only files would otherwise gain made-up skeleton meshes.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     // No Triangulate and no GenNormals: they would hide source polygons and input problems.
@@ -395,11 +411,12 @@ bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostic
 
 }  // namespace
 
-bool readWithAssimp(const std::string& path, Scene& scene, Diagnostics& diagnostics) {
+bool readWithAssimp(const std::string& path, Scene& scene, Diagnostics& diagnostics,
+                    std::vector<std::string>* files_read) {
     // The module boundary: neither Assimp's exceptions nor ours (bad_alloc) get out.
     try {
         std::lock_guard<std::mutex> lock(kImportMutex);
-        return importLocked(path, scene, diagnostics);
+        return importLocked(path, scene, diagnostics, files_read);
     } catch (const std::exception& e) {
         diagnostics.error({path, 0, 0}, std::string("cannot read scene with Assimp: ") + e.what());
     } catch (...) {

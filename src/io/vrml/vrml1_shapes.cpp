@@ -428,7 +428,7 @@ bool Vrml1Parser::parseInline(const Token& type, Vrml1State& state, int depth) {
         warn(type, "WWWInline '" + url + "' includes itself (a file already being read); skipped");
         return true;
     }
-    const std::optional<std::string> text = loadText(*resolved, loc(type), diagnostics_);
+    const std::optional<std::string> text = loadText(*resolved, loc(type), options_, diagnostics_);
     if (!text) return true;  // loadText reported where and why
 
     const size_t meshes = scene_.meshes.size(), lights = scene_.lights.size(), cameras = scene_.cameras.size();

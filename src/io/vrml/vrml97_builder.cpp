@@ -365,7 +365,7 @@ void Vrml97Builder::inlineNode(const Node& node, const DMat4& m) {
                                                     std::to_string(vrml97Limits().max_file_depth) + " deep; skipped");
             return;
         }
-        const std::optional<std::string> text = loadText(*resolved, node.location, diagnostics_);
+        const std::optional<std::string> text = loadText(*resolved, node.location, options_, diagnostics_);
         if (!text) return;
         const size_t meshes = scene_.meshes.size(), lights = scene_.lights.size(), cameras = scene_.cameras.size();
         inline_stack_.push_back(key);

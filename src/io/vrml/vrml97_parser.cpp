@@ -507,7 +507,7 @@ void Vrml97Parser::resolveExternProto(ProtoDef& proto, const std::vector<std::st
             diagnostics_.warning(loc(at), "EXTERNPROTO " + proto.name + " refers back to a file being read; skipped");
             return;
         }
-        const std::optional<std::string> text = loadText(*resolved, loc(at), diagnostics_);
+        const std::optional<std::string> text = loadText(*resolved, loc(at), options_, diagnostics_);
         if (!text) return;
         if (!isVrml97Text(*text)) {
             diagnostics_.warning(loc(at), "EXTERNPROTO " + proto.name + ": " + *resolved + " is not a VRML97 file; skipped");

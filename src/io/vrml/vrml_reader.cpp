@@ -138,7 +138,7 @@ bool looksLikeVrml(std::string_view first_bytes) {
 
 bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene, Diagnostics& diagnostics) {
     try {
-        const std::optional<std::string> text = vrml::loadText(path, {path, 0, 0}, diagnostics);
+        const std::optional<std::string> text = vrml::loadText(path, {path, 0, 0}, options, diagnostics);
         if (!text) return false;
         std::error_code ec;
         std::vector<std::string> inline_stack{fs::weakly_canonical(path, ec).string()};
@@ -153,12 +153,14 @@ bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene,
 
 namespace vrml {
 
-std::optional<std::string> loadText(const std::string& path, const SourceLocation& from, Diagnostics& diagnostics) {
+std::optional<std::string> loadText(const std::string& path, const SourceLocation& from, const VrmlOptions& options,
+                                    Diagnostics& diagnostics) {
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         diagnostics.error(from, "cannot open '" + path + "'");
         return std::nullopt;
     }
+    if (options.files_read) options.files_read->push_back(path);
     std::string bytes;
     in.seekg(0, std::ios::end);
     const std::streamoff size = in.tellg();

@@ -11,6 +11,8 @@ namespace radbake {
 
 struct VrmlOptions {
     bool strict = false;  // unknown nodes and fields are errors
+    // When set, the path of every file loaded (loadText) is appended: the scene's inputs.
+    std::vector<std::string>* files_read = nullptr;
 };
 
 // True when the bytes begin like a VRML file ("#VRML") or a gzip stream.
@@ -28,8 +30,9 @@ namespace vrml {
 bool isVrml97Text(std::string_view text);
 
 // Reads a file, gunzipping it when it starts with the gzip magic. Reports a located error
-// (at `from`, e.g. the Inline that asked for it) and returns nullopt when it cannot.
-std::optional<std::string> loadText(const std::string& path, const SourceLocation& from,
+// (at `from`, e.g. the Inline that asked for it) and returns nullopt when it cannot. The
+// path is appended to options.files_read when it is set.
+std::optional<std::string> loadText(const std::string& path, const SourceLocation& from, const VrmlOptions& options,
                                     Diagnostics& diagnostics);
 
 // Resolves a relative URL against the directory of `base_file`; falls back to a
