@@ -21,17 +21,33 @@ std::optional<LightmapCharts> chartLightmapsWithinBudget(const Scene& scene, Lig
     const bool given = budget.texels_per_unit > 0.0;
     // The imported scene is in metres; the option counts texels per scene unit.
     options.texels_per_metre = given ? budget.texels_per_unit / per_unit : kDefaultTexelsPerMetre;
-    LightmapCharts charts = chartLightmaps(scene, options);
-    const size_t wanted = charts.texels;
     const SourceLocation where{scene.source_path, 0, 0};
-    if (wanted > budget.max_texels && given) {
-        const double fits = budget.texels_per_unit * std::sqrt(static_cast<double>(budget.max_texels) / wanted);
+    const double max_texels = static_cast<double>(budget.max_texels);
+    // Charts are built only at a density whose texels are near the budget: the estimate costs
+    // the same at any density, the charts of a 1e6 m floor at 16 texels/m would not fit memory.
+    const double wanted_estimate = estimateLightmapTexels(scene, options);
+    const auto overBudget = [&](double texels) {
+        if (!given) return false;
+        const double fits = budget.texels_per_unit * std::sqrt(max_texels / texels);
+        char count[32];
+        std::snprintf(count, sizeof count, "%.0f", texels);
         diagnostics.error(where, "lightmaps at --texel-density " + formatNumber(budget.texels_per_unit) + " need " +
-                                     std::to_string(wanted) + " texels, above --max-texels " +
-                                     std::to_string(budget.max_texels) + ": give a density of about " +
-                                     formatNumber(fits) + " or less, or raise --max-texels");
-        return std::nullopt;
+                                     count + " texels, above --max-texels " + std::to_string(budget.max_texels) +
+                                     ": give a density of about " + formatNumber(fits) +
+                                     " or less, or raise --max-texels");
+        return true;
+    };
+    constexpr double kBuildFactor = 4.0;  // the estimate is an upper bound: build when within 4x
+    if (wanted_estimate > kBuildFactor * max_texels) {
+        if (overBudget(wanted_estimate)) return std::nullopt;
+        for (double estimate = wanted_estimate; estimate > kBuildFactor * max_texels;) {
+            options.texels_per_metre *= std::sqrt(max_texels / estimate);
+            estimate = estimateLightmapTexels(scene, options);
+        }
     }
+    LightmapCharts charts = chartLightmaps(scene, options);
+    const size_t wanted = wanted_estimate > kBuildFactor * max_texels ? static_cast<size_t>(wanted_estimate) : charts.texels;
+    if (charts.texels > budget.max_texels && overBudget(static_cast<double>(charts.texels))) return std::nullopt;
     // Texels grow with the square of the density; the minimum chart size keeps tiny charts
     // from shrinking, so step down until the charts fit (or the density cannot help).
     for (int step = 0; charts.texels > budget.max_texels && step < 8; ++step) {

@@ -170,9 +170,29 @@ void fitToFaces(LightmapChart& chart, const LightmapOptions& options) {
     chart.height = texelsFor(hi.y - lo.y, options);
 }
 
+// The texels a region takes at the density before any cap split, in double (a density
+// far too high for the budget must not overflow an int or allocate anything): the split
+// pieces are clipped to the faces, so together they take at most this.
+double regionTexels(const LightmapChart& region, const LightmapOptions& options) {
+    DVec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const ChartFace& face : region.faces)
+        for (const DVec2& p : face.p_plane) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    const double floor = std::max(options.min_chart_texels, 1);
+    const auto side = [&](double metres) { return std::max(std::ceil(metres * options.texels_per_metre - 1e-6), floor); };
+    return side(hi.x - lo.x) * side(hi.y - lo.y);
+}
+
 // One region's chart, or its pieces on a grid of cap-sized cells when it exceeds the cap.
+// With `estimate` set, only adds the region's texels to it (regionTexels) and builds nothing.
 void emitCharts(LightmapChart region, int cap, double area_floor, const LightmapOptions& options,
-                std::vector<LightmapChart>& charts) {
+                std::vector<LightmapChart>& charts, double* estimate) {
+    if (estimate) {
+        *estimate += regionTexels(region, options);
+        return;
+    }
     fitToFaces(region, options);
     if (region.width <= cap && region.height <= cap) {
         charts.push_back(std::move(region));
@@ -202,7 +222,7 @@ void emitCharts(LightmapChart region, int cap, double area_floor, const Lightmap
 }
 
 void meshCharts(const Scene& scene, uint32_t m, double extent, int cap, const LightmapOptions& options,
-                std::vector<LightmapChart>& charts) {
+                std::vector<LightmapChart>& charts, double* estimate) {
     const Mesh& mesh = scene.meshes[m];
     const std::vector<uint32_t> welded = weldLightmapVertices(mesh, kWeld * extent);
     std::vector<TriangleInfo> info(mesh.triangles.size());
@@ -290,7 +310,7 @@ void meshCharts(const Scene& scene, uint32_t m, double extent, int cap, const Li
             face.normal_world = info[t].normal;
             region.faces.push_back(std::move(face));
         }
-        emitCharts(std::move(region), cap, area_floor, options, charts);
+        emitCharts(std::move(region), cap, area_floor, options, charts, estimate);
     }
 }
 
@@ -319,8 +339,16 @@ std::vector<LightmapChart> buildLightmapCharts(const Scene& scene, const Lightma
     const double extent = lightmapExtent(scene);
     // A chart must fit an atlas with its padding on both sides.
     const int cap = std::max(1, std::min(options.max_chart_texels, options.atlas_size - 2 * options.padding));
-    for (uint32_t m = 0; m < scene.meshes.size(); ++m) meshCharts(scene, m, extent, cap, options, charts);
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) meshCharts(scene, m, extent, cap, options, charts, nullptr);
     return charts;
+}
+
+double estimateLightmapTexels(const Scene& scene, const LightmapOptions& options) {
+    std::vector<LightmapChart> none;
+    double texels = 0.0;
+    const double extent = lightmapExtent(scene);
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) meshCharts(scene, m, extent, 1, options, none, &texels);
+    return texels;
 }
 
 }  // namespace radbake

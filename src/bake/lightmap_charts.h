@@ -103,6 +103,12 @@ struct LightmapLayout {
 // charts too (their texels hold what they receive). Unplaced (atlas == -1).
 std::vector<LightmapChart> buildLightmapCharts(const Scene& scene, const LightmapOptions& options);
 
+// An upper bound on the chart texels buildLightmapCharts would make at options.texels_per_metre
+// (exact when no region exceeds the cap), found from the regions alone: its time and memory
+// do not depend on the density, so the texel budget can reject a density a million times
+// too high without building its charts.
+double estimateLightmapTexels(const Scene& scene, const LightmapOptions& options);
+
 // The scene's bounding-box diagonal (1 for an empty scene): the length every chart and seam
 // tolerance is scaled by.
 double lightmapExtent(const Scene& scene);

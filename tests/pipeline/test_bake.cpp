@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -208,4 +209,75 @@ TEST_CASE("writeBake writes every output of an Ok bake, and nothing for a failed
     CHECK(bad_diagnostics.hasErrors());
     CHECK_FALSE(writeBake(bad, dir.path / "bad", bad_diagnostics));
     CHECK_FALSE(std::filesystem::exists(dir.path / "bad"));
+}
+
+namespace {
+
+Scene scaled(Scene scene, float s) {
+    for (Mesh& mesh : scene.meshes)
+        for (Vec3& p : mesh.positions) p *= s;
+    return scene;
+}
+
+}  // namespace
+
+TEST_CASE("lightmaps are scale invariant: the same texels per object at 1e-4, 1 and 1e6 give the same atlases") {
+    BakeOptions options = BakeOptions::forQuality(Quality::Draft);
+    options.threading.threads = 2;
+    options.lightmaps.texels_per_unit = 8.0;
+    const Bake unit = bakeQuietly(litRoom(), options);
+    REQUIRE(unit.ok());
+    const Lightmaps& reference = unit.lightmaps->lightmaps;
+    for (const float s : {1e-4f, 1e6f}) {
+        CAPTURE(s);
+        BakeOptions at_scale = options;
+        at_scale.lightmaps.texels_per_unit = 8.0 / s;
+        const Bake other = bakeQuietly(scaled(litRoom(), s), at_scale);
+        REQUIRE(other.ok());
+        const Lightmaps& maps = other.lightmaps->lightmaps;
+        CHECK(maps.layout.charts.size() == reference.layout.charts.size());
+        CHECK(maps.covered_texels == reference.covered_texels);
+        REQUIRE(maps.images.size() == reference.images.size());
+        // Float rounding of the scaled positions (1e-7 relative) can flip a grazing shadow ray
+        // where the block stands on the floor (as in the solver's own invariance test): the
+        // sum of the light within 1e-3, the worst texel within 3 % of the brightest.
+        double worst = 0.0, brightest = 0.0, sum = 0.0, sum_reference = 0.0;
+        for (size_t k = 0; k < maps.images.size(); ++k) {
+            REQUIRE(maps.images[k].rgb.size() == reference.images[k].rgb.size());
+            for (size_t t = 0; t < maps.images[k].rgb.size(); ++t) {
+                const double a = maps.images[k].rgb[t], b = reference.images[k].rgb[t];
+                worst = std::max(worst, std::fabs(a - b));
+                brightest = std::max(brightest, b);
+                sum += a;
+                sum_reference += b;
+            }
+        }
+        MESSAGE("scale " << s << ": worst texel " << worst / brightest << " of the brightest, sum "
+                         << sum / sum_reference - 1.0);
+        CHECK(brightest > 0.0);
+        CHECK(worst <= 0.03 * brightest);
+        CHECK(sum == doctest::Approx(sum_reference).epsilon(1e-3).scale(0.0));
+    }
+}
+
+TEST_CASE("at a default density a million times too fine, the budget applies before any chart is built") {
+    // 2e6 m walls at 16 texels/m would be 1e15 texels: the charts alone would exhaust memory.
+    BakeOptions options = BakeOptions::forQuality(Quality::Draft);
+    options.lightmaps.max_texels = 20000;
+    Progress progress(false);
+    Diagnostics diagnostics;
+    const Bake huge = bake(scaled(litRoom(), 1e6f), options, progress, diagnostics);
+    REQUIRE(huge.ok());
+    CHECK(huge.report.lightmaps.covered_texels <= 20000);
+    CHECK(huge.report.lightmaps.covered_texels > 20000 / 8);  // lowered to fit, not to nothing
+    CHECK(huge.options.lightmaps.texels_per_unit < 16.0 * 1e-4);
+    CHECK(diagnostics.warningCount() == 1);
+    // A density the user gave is an error naming one that fits, also before building charts.
+    options.lightmaps.texels_per_unit = 16.0;
+    Diagnostics given_diagnostics;
+    Progress given_progress(false);
+    const Bake refused = bake(scaled(litRoom(), 1e6f), options, given_progress, given_diagnostics);
+    CHECK_FALSE(refused.ok());
+    REQUIRE(given_diagnostics.hasErrors());
+    CHECK(given_diagnostics.all().back().message.find("give a density of about") != std::string::npos);
 }
