@@ -1,8 +1,8 @@
 // stats.json: every field the issue asks for, parsed back; phases run in rounds are summed.
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include "export/stats_json.h"
-#include "mini_json.h"
 
 using namespace radbake;
 
@@ -24,36 +24,36 @@ TEST_CASE("stats.json holds every figure and merges repeated phases") {
     report.threads = 2;
     report.peak_rss_mb = 12.5;
     report.vertices = 7;
-    const minijson::Value json = minijson::parse(formatStatsJson(report));
+    const nlohmann::json json = nlohmann::json::parse(formatStatsJson(report));
 
-    CHECK(json["scene"].str() == report.scene);
-    CHECK(json["seconds"].num() == 1.5);
-    CHECK(json["phases"].size() == 4);
-    CHECK(json["phases"]["links"].num() == 0.75);
-    CHECK(json["phases"]["write"].num() == 0.0625);
-    CHECK(json["elements"].num() == 11);
-    CHECK(json["links"].num() == 22);
-    CHECK(json["shafts"].num() == 33);
-    CHECK(json["occluded_links"].num() == 4);
-    CHECK(json["rays"].num() == 55);
-    CHECK(json["iterations"].num() == 6);
-    CHECK(json["converged"].boolean);
-    CHECK(json["peak_rss_mb"].num() == 12.5);
-    CHECK(json["threads"].num() == 2);
-    CHECK(json["visibility"].str() == "obb");
-    CHECK(json["quality"].str() == "high");
-    CHECK(json["error_threshold"].num() == report.options.error_threshold);
-    CHECK(json["local_error_threshold"].num() == report.options.local_error_threshold);
-    CHECK(json["min_area"].num() == report.options.min_element_area);
-    CHECK(json["tolerance"].num() == report.options.iteration_tolerance);
-    CHECK(json["max_iterations"].num() == report.options.max_iterations);
-    CHECK(json["vertices"].num() == 7);
+    CHECK(json.at("scene").get<std::string>() == report.scene);
+    CHECK(json.at("seconds").get<double>() == 1.5);
+    CHECK(json.at("phases").size() == 4);
+    CHECK(json.at("phases").at("links").get<double>() == 0.75);
+    CHECK(json.at("phases").at("write").get<double>() == 0.0625);
+    CHECK(json.at("elements").get<double>() == 11);
+    CHECK(json.at("links").get<double>() == 22);
+    CHECK(json.at("shafts").get<double>() == 33);
+    CHECK(json.at("occluded_links").get<double>() == 4);
+    CHECK(json.at("rays").get<double>() == 55);
+    CHECK(json.at("iterations").get<double>() == 6);
+    CHECK(json.at("converged").get<bool>());
+    CHECK(json.at("peak_rss_mb").get<double>() == 12.5);
+    CHECK(json.at("threads").get<double>() == 2);
+    CHECK(json.at("visibility").get<std::string>() == "obb");
+    CHECK(json.at("quality").get<std::string>() == "high");
+    CHECK(json.at("error_threshold").get<double>() == report.options.error_threshold);
+    CHECK(json.at("local_error_threshold").get<double>() == report.options.local_error_threshold);
+    CHECK(json.at("min_area").get<double>() == report.options.min_element_area);
+    CHECK(json.at("tolerance").get<double>() == report.options.iteration_tolerance);
+    CHECK(json.at("max_iterations").get<double>() == report.options.max_iterations);
+    CHECK(json.at("vertices").get<double>() == 7);
 }
 
 TEST_CASE("stats.json reports the lightmap stage only when it ran") {
     BakeReport report;
-    CHECK_FALSE(minijson::parse(formatStatsJson(report))["lightmaps"].boolean);
-    CHECK_FALSE(minijson::parse(formatStatsJson(report)).has("occupancy"));
+    CHECK_FALSE(nlohmann::json::parse(formatStatsJson(report)).at("lightmaps").get<bool>());
+    CHECK_FALSE(nlohmann::json::parse(formatStatsJson(report)).contains("occupancy"));
     report.lightmaps.baked = true;
     report.lightmaps.texels_per_unit = 16.0;
     report.lightmaps.atlas_size = 1024;
@@ -65,16 +65,16 @@ TEST_CASE("stats.json reports the lightmap stage only when it ran") {
     report.lightmaps.occupancy = 0.25;
     report.lightmaps.interpolated_texels = 1000;
     report.lightmaps.texel_tolerance = 0.02;
-    const minijson::Value json = minijson::parse(formatStatsJson(report));
-    CHECK(json["lightmaps"].boolean);
-    CHECK(json["texel_density"].num() == 16.0);
-    CHECK(json["atlas_size"].num() == 1024);
-    CHECK(json["padding"].num() == 2);
-    CHECK(json["charts"].num() == 17);
-    CHECK(json["atlases"].num() == 2);
-    CHECK(json["atlas_texels"].num() == 5000);
-    CHECK(json["covered_texels"].num() == 1234);
-    CHECK(json["occupancy"].num() == 0.25);
-    CHECK(json["interpolated_texels"].num() == 1000);
-    CHECK(json["texel_tolerance"].num() == 0.02);
+    const nlohmann::json json = nlohmann::json::parse(formatStatsJson(report));
+    CHECK(json.at("lightmaps").get<bool>());
+    CHECK(json.at("texel_density").get<double>() == 16.0);
+    CHECK(json.at("atlas_size").get<double>() == 1024);
+    CHECK(json.at("padding").get<double>() == 2);
+    CHECK(json.at("charts").get<double>() == 17);
+    CHECK(json.at("atlases").get<double>() == 2);
+    CHECK(json.at("atlas_texels").get<double>() == 5000);
+    CHECK(json.at("covered_texels").get<double>() == 1234);
+    CHECK(json.at("occupancy").get<double>() == 0.25);
+    CHECK(json.at("interpolated_texels").get<double>() == 1000);
+    CHECK(json.at("texel_tolerance").get<double>() == 0.02);
 }
