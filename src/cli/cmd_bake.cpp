@@ -210,13 +210,14 @@ bool bakeAndStage(const BakeArgs& args, const Scene& scene, const std::vector<Pr
     }
     progress.endPhase();
 
-    // stats.json last, so that its wall time covers every other output.
+    // stats.json and timings.json last, so that the wall time covers every other output.
     report.phases = progress.phaseSeconds();
     report.seconds = progress.totalSeconds();
     report.peak_rss_mb = peakRssMegabytes();
     report.warnings = diagnostics.warningCount();
     if (!writeStatsJson(transaction.stage("stats.json"), report, diagnostics)) return false;
-    // The manifest last: the size and SHA-256 of every other output.
+    if (!writeTimingsJson(transaction.stage(kTimingsJsonName), report, diagnostics)) return false;  // not in the manifest
+    // The manifest last: the size and SHA-256 of every other output but timings.json.
     const std::vector<std::string> outputs = transaction.staged();
     return writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), outputs, kGenerator, diagnostics);
 }

@@ -6,6 +6,7 @@
 #include "export/hash.h"
 #include "export/json_detail.h"
 #include "export/output_transaction.h"
+#include "export/stats_json.h"
 
 namespace radbake {
 
@@ -32,7 +33,7 @@ bool writeManifest(const fs::path& manifest_path, const fs::path& root, std::vec
     json_detail::Json files = json_detail::Json::array();
     for (const std::string& name : relative_files) {
         const fs::path path = root / name;
-        if (comparable(path) == manifest) continue;
+        if (comparable(path) == manifest || name == kTimingsJsonName) continue;
         std::error_code ec;
         const uintmax_t bytes = fs::file_size(path, ec);
         if (ec) {
@@ -49,6 +50,8 @@ bool writeManifest(const fs::path& manifest_path, const fs::path& root, std::vec
     }
     json_detail::Json json;
     json["generator"] = generator;
+    // Said in the file, so a reader checking the directory knows the one file not listed.
+    json["excluded"] = {kTimingsJsonName};
     json["files"] = std::move(files);
     const std::string text = json_detail::dump(json, 2) + "\n";
     return writeFileBytes(manifest_path, text, diagnostics);

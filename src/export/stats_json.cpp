@@ -39,8 +39,6 @@ std::string formatStatsJson(const BakeReport& r) {
     Json out;
     out["generator"] = r.generator;
     out["scene"] = r.scene;
-    out["seconds"] = r.seconds;
-    out["phases"] = mergedPhases(r.phases);
     out["elements"] = s.elements;
     out["links"] = s.links;
     out["shafts"] = s.shafts;
@@ -48,8 +46,6 @@ std::string formatStatsJson(const BakeReport& r) {
     out["rays"] = s.rays;
     out["iterations"] = s.iterations;
     out["converged"] = s.converged;
-    out["peak_rss_mb"] = r.peak_rss_mb;
-    out["threads"] = r.threads;
     out["visibility"] = toString(r.options.visibility);
     out["quality"] = toString(r.options.quality);
     out["error_threshold"] = r.options.error_threshold;
@@ -81,6 +77,21 @@ std::string formatStatsJson(const BakeReport& r) {
 
 bool writeStatsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics) {
     return writeFileBytes(path, formatStatsJson(report), diagnostics);
+}
+
+std::string formatTimingsJson(const BakeReport& r) {
+    Json out;
+    out["generator"] = r.generator;
+    out["scene"] = r.scene;
+    out["seconds"] = r.seconds;
+    out["phases"] = mergedPhases(r.phases);
+    out["peak_rss_mb"] = r.peak_rss_mb;
+    out["threads"] = r.threads;
+    return json_detail::dump(out, 2) + "\n";
+}
+
+bool writeTimingsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics) {
+    return writeFileBytes(path, formatTimingsJson(report), diagnostics);
 }
 
 }  // namespace radbake

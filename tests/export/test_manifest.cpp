@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "export/hash.h"
 #include "export/manifest.h"
@@ -56,6 +57,28 @@ TEST_CASE("the manifest lists each output once, sorted, with its size and SHA-25
     }
     CHECK(listed.at(1).at("sha256").get<std::string>() == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
     CHECK(listed.at(3).at("sha256").get<std::string>() == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+}
+
+TEST_CASE("the manifest leaves timings.json out, says so, and does not change with it") {
+    TempDir tmp;
+    Diagnostics diagnostics;
+    fs::create_directories(tmp.path / "sub");
+    REQUIRE(writeFileBytes(tmp.path / "stats.json", "{}", diagnostics));
+    REQUIRE(writeFileBytes(tmp.path / "timings.json", "{\"seconds\": 1}", diagnostics));
+    REQUIRE(writeFileBytes(tmp.path / "sub" / "timings.json", "not the bake's", diagnostics));
+    const std::vector<std::string> outputs = {"timings.json", "stats.json", "./timings.json", "sub/timings.json"};
+    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", diagnostics));
+    const std::string first = readBytes(tmp.path / "manifest.json");
+    const nlohmann::json manifest = nlohmann::json::parse(first);
+    CHECK(manifest.at("excluded") == nlohmann::json::array({"timings.json"}));
+    REQUIRE(manifest.at("files").size() == 2);  // only the top-level timings.json is the bake's
+    CHECK(manifest.at("files").at(0).at("path").get<std::string>() == "stats.json");
+    CHECK(manifest.at("files").at(1).at("path").get<std::string>() == "sub/timings.json");
+
+    REQUIRE(writeFileBytes(tmp.path / "timings.json", "{\"seconds\": 2.5}", diagnostics));
+    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", diagnostics));
+    CHECK(readBytes(tmp.path / "manifest.json") == first);
+    CHECK(diagnostics.all().empty());
 }
 
 TEST_CASE("a manifest of nothing is valid JSON, and a missing output is reported at its path") {

@@ -1,17 +1,23 @@
-// stats.json: every field the issue asks for, parsed back; phases run in rounds are summed.
+// stats.json and timings.json: every field parsed back, each in its own file; phases run in
+// rounds are summed.
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
 
 #include "export/stats_json.h"
 
 using namespace radbake;
 
-TEST_CASE("stats.json holds every figure and merges repeated phases") {
+namespace {
+
+BakeReport fullReport() {
     BakeReport report;
     report.generator = "radbake test";
     report.scene = "scenes/a \"quoted\" name.wrl";
     report.seconds = 1.5;
-    report.phases = {{"import", 0.25}, {"links", 0.5}, {"solve", 0.125}, {"links", 0.25}, {"write", 0.0625}};
+    report.phases = {{"import", 0.25}, {"links", 0.5}, {"solve", 0.125}, {"links", 0.25}, {"elements", 0.5}, {"write", 0.0625}};
     report.solve.elements = 11;
     report.solve.links = 22;
     report.solve.shafts = 33;
@@ -24,13 +30,17 @@ TEST_CASE("stats.json holds every figure and merges repeated phases") {
     report.threads = 2;
     report.peak_rss_mb = 12.5;
     report.vertices = 7;
+    return report;
+}
+
+}  // namespace
+
+TEST_CASE("stats.json holds every count and knob, and nothing that differs from run to run") {
+    const BakeReport report = fullReport();
     const nlohmann::json json = nlohmann::json::parse(formatStatsJson(report));
 
+    CHECK(json.at("generator").get<std::string>() == "radbake test");
     CHECK(json.at("scene").get<std::string>() == report.scene);
-    CHECK(json.at("seconds").get<double>() == 1.5);
-    CHECK(json.at("phases").size() == 4);
-    CHECK(json.at("phases").at("links").get<double>() == 0.75);
-    CHECK(json.at("phases").at("write").get<double>() == 0.0625);
     CHECK(json.at("elements").get<double>() == 11);
     CHECK(json.at("links").get<double>() == 22);
     CHECK(json.at("shafts").get<double>() == 33);
@@ -38,8 +48,6 @@ TEST_CASE("stats.json holds every figure and merges repeated phases") {
     CHECK(json.at("rays").get<double>() == 55);
     CHECK(json.at("iterations").get<double>() == 6);
     CHECK(json.at("converged").get<bool>());
-    CHECK(json.at("peak_rss_mb").get<double>() == 12.5);
-    CHECK(json.at("threads").get<double>() == 2);
     CHECK(json.at("visibility").get<std::string>() == "obb");
     CHECK(json.at("quality").get<std::string>() == "high");
     CHECK(json.at("error_threshold").get<double>() == report.options.error_threshold);
@@ -48,6 +56,34 @@ TEST_CASE("stats.json holds every figure and merges repeated phases") {
     CHECK(json.at("tolerance").get<double>() == report.options.iteration_tolerance);
     CHECK(json.at("max_iterations").get<double>() == report.options.max_iterations);
     CHECK(json.at("vertices").get<double>() == 7);
+    for (const char* key : {"seconds", "phases", "peak_rss_mb", "threads"}) CHECK_MESSAGE(!json.contains(key), key);
+
+    // The run's figures do not reach it: another run of the same bake gives the same bytes.
+    BakeReport other = report;
+    other.seconds = 99.0;
+    other.phases = {{"import", 3.0}};
+    other.threads = 7;
+    other.peak_rss_mb = 1000.0;
+    CHECK(formatStatsJson(other) == formatStatsJson(report));
+}
+
+TEST_CASE("timings.json holds the wall time, phases, peak memory and threads, and merges repeated phases") {
+    const BakeReport report = fullReport();
+    const nlohmann::json json = nlohmann::json::parse(formatTimingsJson(report));
+    CHECK(json.at("generator").get<std::string>() == "radbake test");
+    CHECK(json.at("scene").get<std::string>() == report.scene);
+    CHECK(json.at("seconds").get<double>() == 1.5);
+    REQUIRE(json.at("phases").size() == 5);
+    CHECK(json.at("phases").at("links").get<double>() == 0.75);
+    CHECK(json.at("phases").at("write").get<double>() == 0.0625);
+    // In the order the phases first ran (not sorted).
+    const nlohmann::ordered_json in_order = nlohmann::ordered_json::parse(formatTimingsJson(report));
+    std::vector<std::string> order;
+    for (const auto& phase : in_order.at("phases").items()) order.push_back(phase.key());
+    CHECK(order == std::vector<std::string>{"import", "links", "solve", "elements", "write"});
+    CHECK(json.at("peak_rss_mb").get<double>() == 12.5);
+    CHECK(json.at("threads").get<double>() == 2);
+    CHECK(json.size() == 6);
 }
 
 TEST_CASE("stats.json reports the lightmap stage only when it ran") {
