@@ -142,16 +142,15 @@ bool stagePreviews(OutputTransaction& transaction, const Scene& scene, const Ver
                                           baked ? &baked->files.meshes : nullptr, camera, kPreviewWidth,
                                           kPreviewHeight, diagnostics);
     if (diagnostics.hasErrors()) return false;
-    if (!writeFileBytes(transaction.stage("preview/" + scene.name + "_view.png"),
-                        encodePreviewPng(view, autoExposure(view)), diagnostics))
+    if (!writePreviewPng(transaction.stage("preview/" + scene.name + "_view.png"), view, autoExposure(view), diagnostics))
         return false;
     if (!baked) return true;
     // One exposure for every atlas (the first, fullest one's), so their brightness compares.
     const std::vector<LightmapImage>& images = baked->lightmaps.images;
     const double exposure = images.empty() ? 1.0 : autoExposure(toRgbImage(images.front()));
     for (size_t k = 0; k < images.size(); ++k) {
-        if (!writeFileBytes(transaction.stage("preview/" + scene.name + "_atlas_" + std::to_string(k) + ".png"),
-                            encodePreviewPng(toRgbImage(images[k]), exposure), diagnostics))
+        if (!writePreviewPng(transaction.stage("preview/" + scene.name + "_atlas_" + std::to_string(k) + ".png"),
+                             toRgbImage(images[k]), exposure, diagnostics))
             return false;
     }
     return true;
