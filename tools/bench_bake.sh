@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Benchmarks `radbake bake` on one thread: median wall time over RUNS runs (hyperfine when
-# installed, else a timed loop) and peak memory (stats.json's peak_rss_mb, and the whole
+# installed, else a timed loop) and peak memory (timings.json's peak_rss_mb, and the whole
 # process's maximum resident set from /usr/bin/time when present). Issue 4's targets for the
 # shipped Cornell Box at the default quality: < 2 s wall, < 200 MB.
 # Then, unless MODES=0, one bake per --visibility mode with its stats side by side.
@@ -41,8 +41,8 @@ fi
 read -r med lo hi <<<"$median"
 echo "scene           $scene (threads 1${extra[*]:+, ${extra[*]}})"
 echo "wall median     $med s over $runs runs (min $lo, max $hi)   target < 2 s"
-echo "bake seconds    $(field "$work/out/stats.json" seconds) s (stats.json of the last run)"
-echo "peak_rss_mb     $(field "$work/out/stats.json" peak_rss_mb) MB (stats.json)   target < 200 MB"
+echo "bake seconds    $(field "$work/out/timings.json" seconds) s (timings.json of the last run)"
+echo "peak_rss_mb     $(field "$work/out/timings.json" peak_rss_mb) MB (timings.json)   target < 200 MB"
 if [ -x /usr/bin/time ]; then
   /usr/bin/time -f '%M' -o "$work/rss" "$radbake" bake "$scene" --threads 1 --quiet -o "$work/out" "${extra[@]}" >/dev/null
   echo "max RSS         $(python3 -c "print('%.1f' % ($(cat "$work/rss") / 1024))") MB (/usr/bin/time, whole process)"
@@ -53,10 +53,11 @@ if [ "${MODES:-1}" != 0 ]; then
   printf '%-10s %9s %9s %10s %15s %10s %9s %12s\n' visibility seconds elements links occluded_links rays shafts peak_rss_mb
   for mode in rays aabb obb exact; do
     bake --visibility "$mode" 2>/dev/null
-    python3 - "$work/out/stats.json" "$mode" <<'PY'
+    python3 - "$work/out/stats.json" "$work/out/timings.json" "$mode" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
-print("%-10s %9.3f %9d %10d %15d %10d %9d %12.1f" % (sys.argv[2], s["seconds"], s["elements"], s["links"],
+s.update(json.load(open(sys.argv[2])))  # seconds and peak_rss_mb
+print("%-10s %9.3f %9d %10d %15d %10d %9d %12.1f" % (sys.argv[3], s["seconds"], s["elements"], s["links"],
       s["occluded_links"], s["rays"], s["shafts"], s["peak_rss_mb"]))
 PY
   done

@@ -19,8 +19,8 @@ output of tools/reference_mc (x,y,z,nx,ny,nz,r,g,b,se_r,se_g,se_b). Errors, per 
              (analytic references only).
 For a Monte Carlo reference, `ref_noise_l2` is the same L2 norm of its standard errors: errors
 below about twice it are not resolved.
-Time is the median over --repeats runs of stats.json "seconds"; memory the median of
-"peak_rss_mb". Python standard library only.
+Time is the median over --repeats runs of timings.json "seconds"; memory the median of its
+"peak_rss_mb" (counts come from stats.json). Python standard library only.
 """
 import argparse
 import csv
@@ -99,8 +99,16 @@ def run_once(args, mode, options, out_dir):
     if result.returncode != 0:
         sys.stderr.write("harness: failed (%d): %s\n%s" % (result.returncode, " ".join(command), result.stderr))
         return None
+    return read_bake_stats(out_dir)
+
+
+def read_bake_stats(out_dir):
+    """stats.json (counts, knobs) and timings.json (seconds, phases, peak_rss_mb, threads) as one dict."""
     with open(os.path.join(out_dir, "stats.json")) as f:
-        return json.load(f)
+        stats = json.load(f)
+    with open(os.path.join(out_dir, "timings.json")) as f:
+        stats.update(json.load(f))
+    return stats
 
 
 def log_ticks(lo, hi):

@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 
-#include "core/json.h"
+#include "export/json_detail.h"
 #include "export/mesh_attributes.h"
 #include "export/output_transaction.h"
 
@@ -25,14 +24,9 @@ constexpr int kUnsignedInt = 5125;
 constexpr int kArrayBuffer = 34962;
 constexpr int kElementArrayBuffer = 34963;
 
-// %.9g round-trips a float; JSON has no inf/nan, and callers pass only finite values.
-std::string num(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.9g", value);
-    return buffer;
-}
+using json_detail::GltfJson;
 
-std::string vec3Json(const Vec3& v) { return "[" + num(v.x) + "," + num(v.y) + "," + num(v.z) + "]"; }
+GltfJson vec3Json(const Vec3& v) { return GltfJson::array({v.x, v.y, v.z}); }
 
 template <typename T>
 void append(std::string& bin, const std::vector<T>& data) {
@@ -48,22 +42,23 @@ void appendU32(std::string& out, uint32_t value) {
 }
 
 struct JsonLists {
-    std::vector<std::string> buffer_views, accessors, meshes, nodes;
+    GltfJson buffer_views = GltfJson::array(), accessors = GltfJson::array(), meshes = GltfJson::array(),
+             nodes = GltfJson::array();
 };
 
 // One tightly packed buffer view (offsets stay 4-byte aligned: every element is 4-byte sized).
 int addView(JsonLists& lists, size_t offset, size_t length, int target) {
-    lists.buffer_views.push_back("{\"buffer\":0,\"byteOffset\":" + std::to_string(offset) +
-                                 ",\"byteLength\":" + std::to_string(length) +
-                                 ",\"target\":" + std::to_string(target) + "}");
+    lists.buffer_views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}, {"target", target}});
     return static_cast<int>(lists.buffer_views.size()) - 1;
 }
 
+// `min` and `max` (arrays) are written when given.
 int addAccessor(JsonLists& lists, int view, int component_type, size_t count, const char* type,
-                const std::string& min_max = {}) {
-    lists.accessors.push_back("{\"bufferView\":" + std::to_string(view) +
-                              ",\"componentType\":" + std::to_string(component_type) +
-                              ",\"count\":" + std::to_string(count) + ",\"type\":\"" + type + "\"" + min_max + "}");
+                const GltfJson& min = nullptr, const GltfJson& max = nullptr) {
+    GltfJson accessor = {{"bufferView", view}, {"componentType", component_type}, {"count", count}, {"type", type}};
+    if (!min.is_null()) accessor["min"] = min;
+    if (!max.is_null()) accessor["max"] = max;
+    lists.accessors.push_back(std::move(accessor));
     return static_cast<int>(lists.accessors.size()) - 1;
 }
 
@@ -71,16 +66,13 @@ int addVec3Accessor(JsonLists& lists, std::string& bin, const std::vector<Vec3>&
     const size_t offset = bin.size();
     append(bin, data);
     const int view = addView(lists, offset, data.size() * sizeof(Vec3), kArrayBuffer);
-    std::string min_max;
-    if (with_bounds) {
-        Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-        for (const Vec3& p : data) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
-        min_max = ",\"min\":" + vec3Json(lo) + ",\"max\":" + vec3Json(hi);
+    if (!with_bounds) return addAccessor(lists, view, kFloat, data.size(), "VEC3");
+    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Vec3& p : data) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
     }
-    return addAccessor(lists, view, kFloat, data.size(), "VEC3", min_max);
+    return addAccessor(lists, view, kFloat, data.size(), "VEC3", vec3Json(lo), vec3Json(hi));
 }
 
 // A TEXCOORD accessor, with bounds (optional in glTF, but they let a reader check [0, 1]).
@@ -93,8 +85,8 @@ int addVec2Accessor(JsonLists& lists, std::string& bin, const std::vector<Vec2>&
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
     }
-    return addAccessor(lists, view, kFloat, data.size(), "VEC2",
-                       ",\"min\":[" + num(lo.x) + "," + num(lo.y) + "],\"max\":[" + num(hi.x) + "," + num(hi.y) + "]");
+    return addAccessor(lists, view, kFloat, data.size(), "VEC2", GltfJson::array({lo.x, lo.y}),
+                       GltfJson::array({hi.x, hi.y}));
 }
 
 // One triangle primitive's accessors and JSON; `uv` (the lightmap UVs) may be null.
@@ -106,7 +98,9 @@ struct PrimitiveData {
     const std::vector<UVec3>& triangles;
 };
 
-std::string primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& data, const std::string& tail) {
+// `material` < 0: none; `extras` is written when not null.
+GltfJson primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& data, int material,
+                       const GltfJson& extras = nullptr) {
     const int position = addVec3Accessor(lists, bin, data.positions, true);
     const int normal = addVec3Accessor(lists, bin, data.normals, false);
     // glTF requires COLOR_0 in [0, 1]: it gets the clamped value for viewers and engines'
@@ -120,12 +114,16 @@ std::string primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveDat
     append(bin, data.triangles);  // UVec3 = three packed uint32
     const int index_view = addView(lists, index_offset, data.triangles.size() * sizeof(UVec3), kElementArrayBuffer);
     const int indices = addAccessor(lists, index_view, kUnsignedInt, data.triangles.size() * 3, "SCALAR");
-    std::string json = "{\"attributes\":{\"POSITION\":" + std::to_string(position) +
-                       ",\"NORMAL\":" + std::to_string(normal) + ",\"COLOR_0\":" + std::to_string(color) +
-                       ",\"_RADBAKE_LIGHT\":" + std::to_string(light);
+    GltfJson attributes = {{"POSITION", position}, {"NORMAL", normal}, {"COLOR_0", color}, {"_RADBAKE_LIGHT", light}};
     // Both UV sets share one accessor (see the header: radbake has no material UVs).
-    if (uv >= 0) json += ",\"TEXCOORD_0\":" + std::to_string(uv) + ",\"TEXCOORD_1\":" + std::to_string(uv);
-    return json + "},\"indices\":" + std::to_string(indices) + ",\"mode\":4" + tail + "}";
+    if (uv >= 0) {
+        attributes["TEXCOORD_0"] = uv;
+        attributes["TEXCOORD_1"] = uv;
+    }
+    GltfJson primitive = {{"attributes", std::move(attributes)}, {"indices", indices}, {"mode", 4}};
+    if (material >= 0) primitive["material"] = material;
+    if (!extras.is_null()) primitive["extras"] = extras;
+    return primitive;
 }
 
 // The vertices of `lightmap_mesh` on atlas `atlas`, renumbered in order of first use.
@@ -167,34 +165,22 @@ std::vector<int> atlasesUsed(const LightmapMesh& lightmap_mesh) {
     return atlases;
 }
 
-std::string stringList(const std::vector<std::string>& items) {
-    std::string out = "[";
-    for (size_t i = 0; i < items.size(); ++i) out += (i ? "," : "") + jsonString(items[i]);
-    return out + "]";
-}
-
-std::string materialJson(const Material& material, bool& uses_strength) {
+GltfJson materialJson(const Material& material, bool& uses_strength) {
     const Vec3 rho = glm::clamp(material.reflectance, Vec3(0.0f), Vec3(1.0f));
-    std::string json = "{\"name\":" + jsonString(material.name) +
-                       ",\"pbrMetallicRoughness\":{\"baseColorFactor\":[" + num(rho.x) + "," + num(rho.y) + "," +
-                       num(rho.z) + ",1],\"metallicFactor\":0,\"roughnessFactor\":1}";
+    GltfJson json = {{"name", material.name},
+                     {"pbrMetallicRoughness",
+                      {{"baseColorFactor", {rho.x, rho.y, rho.z, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}};
     const Vec3 emission = isFinite(material.emission) ? glm::max(material.emission, Vec3(0.0f)) : Vec3(0.0f);
     const float peak = std::max({emission.x, emission.y, emission.z});
     if (peak > 1.0f) {
         // emissiveFactor is limited to [0, 1]; the extension carries the scale.
-        json += ",\"emissiveFactor\":" + vec3Json(emission / peak) +
-                ",\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":" + num(peak) + "}}";
+        json["emissiveFactor"] = vec3Json(emission / peak);
+        json["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", peak}}}};
         uses_strength = true;
     } else if (peak > 0.0f) {
-        json += ",\"emissiveFactor\":" + vec3Json(emission);
+        json["emissiveFactor"] = vec3Json(emission);
     }
-    return json + "}";
-}
-
-std::string joined(const std::vector<std::string>& items) {
-    std::string out = "[";
-    for (size_t i = 0; i < items.size(); ++i) out += (i ? "," : "") + items[i];
-    return out + "]";
+    return json;
 }
 
 }  // namespace
@@ -226,9 +212,8 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         if (mesh.triangles.empty() || mesh.positions.empty()) continue;  // glTF accessors need count >= 1
-        const std::string material_tail =
-            mesh.material < scene.materials.size() ? ",\"material\":" + std::to_string(mesh.material) : std::string();
-        std::string primitives, mesh_extras;
+        const int material = mesh.material < scene.materials.size() ? static_cast<int>(mesh.material) : -1;
+        GltfJson primitives = GltfJson::array(), mesh_extras;
         const LightmapMesh* lightmap_mesh = options.lightmaps ? &options.lightmaps->meshes[m] : nullptr;
         if (lightmap_mesh && !lightmap_mesh->triangles.empty()) {
             // One primitive per atlas: an engine binds one lightmap texture per primitive.
@@ -238,53 +223,54 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
             for (const int atlas : atlasesUsed(*lightmap_mesh)) {
                 const AtlasPart part = atlasPart(*lightmap_mesh, atlas, normals, colors);
                 const std::string& file = options.lightmaps->atlas_files[static_cast<size_t>(atlas)];
-                const std::string extras = ",\"extras\":{\"radbake_lightmap\":" + jsonString(file) +
-                                           ",\"radbake_lightmap_index\":" + std::to_string(atlas) + "}";
-                primitives += std::string(files.empty() ? "" : ",") +
-                              primitiveJson(lists, bin, {part.positions, part.normals, part.colors, &part.uv, part.triangles},
-                                            material_tail + extras);
+                const GltfJson extras = {{"radbake_lightmap", file}, {"radbake_lightmap_index", atlas}};
+                primitives.push_back(primitiveJson(
+                    lists, bin, {part.positions, part.normals, part.colors, &part.uv, part.triangles}, material, extras));
                 files.push_back(file);
             }
-            mesh_extras = ",\"extras\":{\"radbake_lightmaps\":" + stringList(files) + "}";
+            mesh_extras = {{"radbake_lightmaps", files}};
         } else {
-            primitives = primitiveJson(
+            primitives.push_back(primitiveJson(
                 lists, bin,
                 {mesh.positions, vertexNormals(mesh), finiteVertexValues(mesh, &bake.values[m], non_finite), nullptr,
                  mesh.triangles},
-                material_tail);
+                material));
         }
         const std::string name = mesh.name.empty() ? "mesh" + std::to_string(m) : mesh.name;
-        lists.meshes.push_back("{\"name\":" + jsonString(name) + ",\"primitives\":[" + primitives + "]" +
-                               mesh_extras + "}");
-        lists.nodes.push_back("{\"name\":" + jsonString(name) + ",\"mesh\":" + std::to_string(lists.meshes.size() - 1) + "}");
+        GltfJson mesh_json = {{"name", name}, {"primitives", std::move(primitives)}};
+        if (!mesh_extras.is_null()) mesh_json["extras"] = std::move(mesh_extras);
+        lists.meshes.push_back(std::move(mesh_json));
+        lists.nodes.push_back({{"name", name}, {"mesh", lists.meshes.size() - 1}});
     }
     if (non_finite > 0)
         diagnostics.warning({}, std::to_string(non_finite) + " baked vertex values were not finite and were written as 0");
 
     bool uses_strength = false;
-    std::vector<std::string> materials;
+    GltfJson materials = GltfJson::array();
     for (const Material& material : scene.materials) materials.push_back(materialJson(material, uses_strength));
 
-    std::vector<std::string> node_indices;
-    for (size_t i = 0; i < lists.nodes.size(); ++i) node_indices.push_back(std::to_string(i));
+    GltfJson node_indices = GltfJson::array();
+    for (size_t i = 0; i < lists.nodes.size(); ++i) node_indices.push_back(i);
 
-    std::string json = "{\"asset\":{\"version\":\"2.0\",\"generator\":" + jsonString(options.generator) +
-                       ",\"extras\":{\"_RADBAKE_LIGHT\":\"baked irradiance H/pi per vertex, linear, unclamped\","
-                       "\"COLOR_0\":\"_RADBAKE_LIGHT clamped to [0, 1], as glTF requires\"";
+    GltfJson asset_extras = {{"_RADBAKE_LIGHT", "baked irradiance H/pi per vertex, linear, unclamped"},
+                             {"COLOR_0", "_RADBAKE_LIGHT clamped to [0, 1], as glTF requires"}};
     if (options.lightmaps) {
-        json += ",\"TEXCOORD_1\":\"lightmap UVs (TEXCOORD_0 repeats them); u right, v down from the top row\"" +
-                std::string(",\"radbake_lightmaps\":") + stringList(options.lightmaps->atlas_files);
+        asset_extras["TEXCOORD_1"] = "lightmap UVs (TEXCOORD_0 repeats them); u right, v down from the top row";
+        asset_extras["radbake_lightmaps"] = options.lightmaps->atlas_files;
     }
-    json += "}}";
-    if (uses_strength) json += ",\"extensionsUsed\":[\"KHR_materials_emissive_strength\"]";
-    json += ",\"scene\":0,\"scenes\":[{\"name\":" + jsonString(scene.name) + ",\"nodes\":" + joined(node_indices) + "}]";
-    json += ",\"nodes\":" + joined(lists.nodes) + ",\"meshes\":" + joined(lists.meshes);
-    if (!materials.empty()) json += ",\"materials\":" + joined(materials);
+    GltfJson root = {{"asset", {{"version", "2.0"}, {"generator", options.generator}, {"extras", std::move(asset_extras)}}}};
+    if (uses_strength) root["extensionsUsed"] = {"KHR_materials_emissive_strength"};
+    root["scene"] = 0;
+    root["scenes"] = GltfJson::array({{{"name", scene.name}, {"nodes", std::move(node_indices)}}});
+    root["nodes"] = std::move(lists.nodes);
+    root["meshes"] = std::move(lists.meshes);
+    if (!materials.empty()) root["materials"] = std::move(materials);
     if (!bin.empty()) {
-        json += ",\"buffers\":[{\"byteLength\":" + std::to_string(bin.size()) + "}]";
-        json += ",\"bufferViews\":" + joined(lists.buffer_views) + ",\"accessors\":" + joined(lists.accessors);
+        root["buffers"] = GltfJson::array({{{"byteLength", bin.size()}}});
+        root["bufferViews"] = std::move(lists.buffer_views);
+        root["accessors"] = std::move(lists.accessors);
     }
-    json += "}";
+    std::string json = json_detail::dump(root, -1);
 
     // Chunks are padded to 4 bytes: JSON with spaces, BIN with zeros (glTF 2.0 section 4.4).
     json.resize((json.size() + 3) / 4 * 4, ' ');

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <system_error>
 
-#include "core/json.h"
 #include "export/hash.h"
+#include "export/json_detail.h"
 #include "export/output_transaction.h"
+#include "export/stats_json.h"
 
 namespace radbake {
 
@@ -29,11 +30,10 @@ bool writeManifest(const fs::path& manifest_path, const fs::path& root, std::vec
     relative_files.erase(std::unique(relative_files.begin(), relative_files.end()), relative_files.end());
 
     const fs::path manifest = comparable(manifest_path);
-    std::string json = "{\n  \"generator\": " + jsonString(generator) + ",\n  \"files\": [";
-    bool first = true;
+    json_detail::Json files = json_detail::Json::array();
     for (const std::string& name : relative_files) {
         const fs::path path = root / name;
-        if (comparable(path) == manifest) continue;
+        if (comparable(path) == manifest || name == kTimingsJsonName) continue;
         std::error_code ec;
         const uintmax_t bytes = fs::file_size(path, ec);
         if (ec) {
@@ -42,12 +42,19 @@ bool writeManifest(const fs::path& manifest_path, const fs::path& root, std::vec
         }
         const std::optional<std::string> digest = sha256File(path, diagnostics);
         if (!digest) return false;
-        json += std::string(first ? "" : ",") + "\n    {\"path\": " + jsonString(name) +
-                ", \"bytes\": " + std::to_string(bytes) + ", \"sha256\": \"" + *digest + "\"}";
-        first = false;
+        json_detail::Json entry;
+        entry["path"] = name;
+        entry["bytes"] = bytes;
+        entry["sha256"] = *digest;
+        files.push_back(std::move(entry));
     }
-    json += first ? "]\n}\n" : "\n  ]\n}\n";
-    return writeFileBytes(manifest_path, json, diagnostics);
+    json_detail::Json json;
+    json["generator"] = generator;
+    // Said in the file, so a reader checking the directory knows the one file not listed.
+    json["excluded"] = {kTimingsJsonName};
+    json["files"] = std::move(files);
+    const std::string text = json_detail::dump(json, 2) + "\n";
+    return writeFileBytes(manifest_path, text, diagnostics);
 }
 
 }  // namespace radbake

@@ -3,6 +3,7 @@
 #include "export/preview.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "export/output_transaction.h"
 #include "visibility/ray_caster.h"
 
 #pragma GCC diagnostic push
@@ -51,10 +53,21 @@ void appendBytes(void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<size_t>(size));
 }
 
-}  // namespace
-
-std::string encodePreviewPng(const RgbImage& linear, double exposure) {
-    if (!consistent(linear)) return {};
+// The PNG, or empty with `why` set.
+std::string encodePng(const RgbImage& linear, double exposure, std::string& why) {
+    if (linear.width <= 0 || linear.height <= 0) {
+        why = "the image is empty (" + std::to_string(linear.width) + "x" + std::to_string(linear.height) + ")";
+        return {};
+    }
+    if (!consistent(linear)) {
+        why = "the image has " + std::to_string(linear.rgb.size()) + " values for " + std::to_string(linear.width) +
+              "x" + std::to_string(linear.height) + " pixels";
+        return {};
+    }
+    if (linear.width > INT_MAX / 3) {  // the encoder's row stride is an int
+        why = "the image is too wide for the PNG encoder";
+        return {};
+    }
     if (!std::isfinite(exposure) || exposure < 0.0) exposure = 1.0;
     try {
         std::vector<uint8_t> bytes(linear.rgb.size());
@@ -69,12 +82,34 @@ std::string encodePreviewPng(const RgbImage& linear, double exposure) {
             for (int k = 0; k < 3; ++k) bytes[p + k] = toByte(c[k] * scale);
         }
         std::string png;
-        if (!stbi_write_png_to_func(appendBytes, &png, linear.width, linear.height, 3, bytes.data(), linear.width * 3))
+        if (!stbi_write_png_to_func(appendBytes, &png, linear.width, linear.height, 3, bytes.data(), linear.width * 3) ||
+            png.empty()) {
+            why = "the PNG encoder failed";
             return {};
+        }
         return png;
     } catch (...) {  // allocation failure: no PNG
+        why = "out of memory";
         return {};
     }
+}
+
+}  // namespace
+
+std::string encodePreviewPng(const RgbImage& linear, double exposure) {
+    std::string why;
+    return encodePng(linear, exposure, why);
+}
+
+bool writePreviewPng(const std::filesystem::path& path, const RgbImage& linear, double exposure,
+                     Diagnostics& diagnostics) {
+    std::string why;
+    const std::string png = encodePng(linear, exposure, why);
+    if (png.empty()) {
+        diagnostics.error({path.string(), 0, 0}, "cannot encode the preview PNG: " + why);
+        return false;
+    }
+    return writeFileBytes(path, png, diagnostics);
 }
 
 double autoExposure(const RgbImage& linear) {

@@ -3,6 +3,7 @@
 // person can look at a bake (issue 5). preview.cpp is the only file that includes
 // stb_image_write.h. Nothing here throws; everything is deterministic and independent of the
 // thread count.
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,12 @@ namespace radbake {
 // the nearest of 0..255. So grey 1 encodes to 188, grey 3 to 225, pure red (1, 0, 0) to
 // (234, 0, 0). Empty string for an empty or inconsistent image.
 std::string encodePreviewPng(const RgbImage& linear, double exposure);
+
+// encodePreviewPng written to `path`. An image that cannot be encoded (empty, inconsistent,
+// too large for the encoder, out of memory) is an error at `path` and nothing is written: a
+// 0-byte PNG would be listed in the manifest as if it were a preview. False after reporting.
+bool writePreviewPng(const std::filesystem::path& path, const RgbImage& linear, double exposure,
+                     Diagnostics& diagnostics);
 
 // The exposure that maps the image's key, the log-average luminance exp(mean(ln L)) of its
 // pixels with L > 0, to kPreviewKey, the scene value that encodePreviewPng shows as mid grey

@@ -3,21 +3,29 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 
-#include "core/json.h"
+#include "export/json_detail.h"
 #include "export/output_transaction.h"
 
 namespace radbake {
 
+using json_detail::Json;
+
 namespace {
-std::string num(double value) {
-    if (!std::isfinite(value)) return "null";  // JSON has no inf/nan
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.9g", value);
-    return buffer;
+
+// A phase that ran more than once (a stage called in rounds) is one key with its total.
+Json mergedPhases(const std::vector<std::pair<std::string, double>>& phases) {
+    std::vector<std::pair<std::string, double>> merged;
+    for (const auto& [name, seconds] : phases) {
+        auto it = std::find_if(merged.begin(), merged.end(), [&](const auto& p) { return p.first == name; });
+        if (it == merged.end()) merged.emplace_back(name, seconds);
+        else it->second += seconds;
+    }
+    Json out = Json::object();
+    for (const auto& [name, seconds] : merged) out[name] = seconds;
+    return out;
 }
+
 }  // namespace
 
 double peakRssMegabytes() {
@@ -27,63 +35,63 @@ double peakRssMegabytes() {
 }
 
 std::string formatStatsJson(const BakeReport& r) {
-    // A phase that ran more than once (a stage called in rounds) is one key with its total.
-    std::vector<std::pair<std::string, double>> merged;
-    for (const auto& [name, seconds] : r.phases) {
-        auto it = std::find_if(merged.begin(), merged.end(), [&](const auto& p) { return p.first == name; });
-        if (it == merged.end()) merged.emplace_back(name, seconds);
-        else it->second += seconds;
-    }
-    std::string phases = "{";
-    for (size_t i = 0; i < merged.size(); ++i)
-        phases += (i ? ", " : "") + jsonString(merged[i].first) + ": " + num(merged[i].second);
-    phases += "}";
     const SolveStats& s = r.solve;
-    std::string out = "{\n";
-    out += "  \"generator\": " + jsonString(r.generator) + ",\n";
-    out += "  \"scene\": " + jsonString(r.scene) + ",\n";
-    out += "  \"seconds\": " + num(r.seconds) + ",\n";
-    out += "  \"phases\": " + phases + ",\n";
-    out += "  \"elements\": " + std::to_string(s.elements) + ",\n";
-    out += "  \"links\": " + std::to_string(s.links) + ",\n";
-    out += "  \"shafts\": " + std::to_string(s.shafts) + ",\n";
-    out += "  \"occluded_links\": " + std::to_string(s.occluded_links) + ",\n";
-    out += "  \"rays\": " + std::to_string(s.rays) + ",\n";
-    out += "  \"iterations\": " + std::to_string(s.iterations) + ",\n";
-    out += std::string("  \"converged\": ") + (s.converged ? "true" : "false") + ",\n";
-    out += "  \"peak_rss_mb\": " + num(r.peak_rss_mb) + ",\n";
-    out += "  \"threads\": " + std::to_string(r.threads) + ",\n";
-    out += std::string("  \"visibility\": \"") + toString(r.options.visibility) + "\",\n";
-    out += std::string("  \"quality\": \"") + toString(r.options.quality) + "\",\n";
-    out += "  \"error_threshold\": " + num(r.options.error_threshold) + ",\n";
-    out += "  \"local_error_threshold\": " + num(r.options.local_error_threshold) + ",\n";
-    out += "  \"min_area\": " + num(r.options.min_element_area) + ",\n";
-    out += "  \"tolerance\": " + num(r.options.iteration_tolerance) + ",\n";
-    out += "  \"max_iterations\": " + std::to_string(r.options.max_iterations) + ",\n";
-    out += "  \"meshes\": " + std::to_string(r.meshes) + ",\n";
-    out += "  \"vertices\": " + std::to_string(r.vertices) + ",\n";
-    out += "  \"triangles\": " + std::to_string(r.triangles) + ",\n";
-    out += "  \"probes\": " + std::to_string(r.probes) + ",\n";
+    Json out;
+    out["generator"] = r.generator;
+    out["scene"] = r.scene;
+    out["elements"] = s.elements;
+    out["links"] = s.links;
+    out["shafts"] = s.shafts;
+    out["occluded_links"] = s.occluded_links;
+    out["rays"] = s.rays;
+    out["iterations"] = s.iterations;
+    out["converged"] = s.converged;
+    out["visibility"] = toString(r.options.visibility);
+    out["quality"] = toString(r.options.quality);
+    out["error_threshold"] = r.options.error_threshold;
+    out["local_error_threshold"] = r.options.local_error_threshold;
+    out["min_area"] = r.options.min_element_area;
+    out["tolerance"] = r.options.iteration_tolerance;
+    out["max_iterations"] = r.options.max_iterations;
+    out["meshes"] = r.meshes;
+    out["vertices"] = r.vertices;
+    out["triangles"] = r.triangles;
+    out["probes"] = r.probes;
     const LightmapReport& l = r.lightmaps;
-    out += std::string("  \"lightmaps\": ") + (l.baked ? "true" : "false") + ",\n";
+    out["lightmaps"] = l.baked;
     if (l.baked) {
-        out += "  \"texel_density\": " + num(l.texels_per_unit) + ",\n";
-        out += "  \"atlas_size\": " + std::to_string(l.atlas_size) + ",\n";
-        out += "  \"padding\": " + std::to_string(l.padding) + ",\n";
-        out += "  \"charts\": " + std::to_string(l.charts) + ",\n";
-        out += "  \"atlases\": " + std::to_string(l.atlases) + ",\n";
-        out += "  \"atlas_texels\": " + std::to_string(l.atlas_texels) + ",\n";
-        out += "  \"covered_texels\": " + std::to_string(l.covered_texels) + ",\n";
-        out += "  \"interpolated_texels\": " + std::to_string(l.interpolated_texels) + ",\n";
-        out += "  \"texel_tolerance\": " + num(l.texel_tolerance) + ",\n";
-        out += "  \"occupancy\": " + num(l.occupancy) + ",\n";
+        out["texel_density"] = l.texels_per_unit;
+        out["atlas_size"] = l.atlas_size;
+        out["padding"] = l.padding;
+        out["charts"] = l.charts;
+        out["atlases"] = l.atlases;
+        out["atlas_texels"] = l.atlas_texels;
+        out["covered_texels"] = l.covered_texels;
+        out["interpolated_texels"] = l.interpolated_texels;
+        out["texel_tolerance"] = l.texel_tolerance;
+        out["occupancy"] = l.occupancy;
     }
-    out += "  \"warnings\": " + std::to_string(r.warnings) + "\n";
-    return out + "}\n";
+    out["warnings"] = r.warnings;
+    return json_detail::dump(out, 2) + "\n";
 }
 
 bool writeStatsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics) {
     return writeFileBytes(path, formatStatsJson(report), diagnostics);
+}
+
+std::string formatTimingsJson(const BakeReport& r) {
+    Json out;
+    out["generator"] = r.generator;
+    out["scene"] = r.scene;
+    out["seconds"] = r.seconds;
+    out["phases"] = mergedPhases(r.phases);
+    out["peak_rss_mb"] = r.peak_rss_mb;
+    out["threads"] = r.threads;
+    return json_detail::dump(out, 2) + "\n";
+}
+
+bool writeTimingsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics) {
+    return writeFileBytes(path, formatTimingsJson(report), diagnostics);
 }
 
 }  // namespace radbake

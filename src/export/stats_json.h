@@ -1,5 +1,9 @@
 #pragma once
-// stats.json: what a bake did and what it cost, for content-build logs and benchmarks.
+// stats.json and timings.json, for content-build logs and benchmarks. stats.json holds only
+// what the scene and the options determine (counts, knobs, lightmap figures), so it is
+// byte-identical from run to run whatever the thread count (DESIGN.md section 4) and the
+// manifest can hash it; timings.json holds what the run costs (wall time, seconds per phase,
+// peak memory, threads), which differs every run, and the manifest leaves it out.
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -27,12 +31,12 @@ struct LightmapReport {
 struct BakeReport {
     std::string generator;  // "radbake <version>"
     std::string scene;      // path as given
-    double seconds = 0.0;   // wall time of the whole bake
-    std::vector<std::pair<std::string, double>> phases;  // wall seconds per phase, in order
+    double seconds = 0.0;   // timings.json: wall time of the whole bake
+    std::vector<std::pair<std::string, double>> phases;  // timings.json: wall seconds per phase, in order
     SolveStats solve;
     SolverOptions options;  // the knobs actually used (after preset and overrides)
-    int threads = 0;        // worker threads actually used
-    double peak_rss_mb = 0.0;
+    int threads = 0;        // timings.json: worker threads actually used
+    double peak_rss_mb = 0.0;  // timings.json
     size_t meshes = 0, vertices = 0, triangles = 0, probes = 0;
     int warnings = 0;
     LightmapReport lightmaps;
@@ -41,8 +45,19 @@ struct BakeReport {
 // Peak resident set size of this process so far, in MiB (getrusage).
 double peakRssMegabytes();
 
+// The file the manifest never lists (see manifest.h), beside stats.json in a bake directory.
+inline constexpr const char* kTimingsJsonName = "timings.json";
+
+// stats.json: generator, scene, the solve's counts, visibility, quality and knobs, mesh
+// counts, the lightmap figures (only when lightmaps were baked) and warnings, in that order.
 std::string formatStatsJson(const BakeReport& report);
 
 bool writeStatsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics);
+
+// timings.json: generator, scene, seconds, phases (a phase run in rounds is one key with its
+// total), peak_rss_mb and threads.
+std::string formatTimingsJson(const BakeReport& report);
+
+bool writeTimingsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics);
 
 }  // namespace radbake

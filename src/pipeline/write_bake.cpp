@@ -79,14 +79,9 @@ bool stageAll(const Bake& bake, OutputTransaction& transaction, Diagnostics& dia
     transaction.retireUnstagedIn("lightmaps");
     transaction.retireUnstagedIn("preview");
     if (bake.lightmaps && !stageLightmapExrs(transaction, bake, diagnostics)) return false;
-    for (const PreviewImage& preview : bake.previews) {
-        const std::string png = encodePreviewPng(preview.image, preview.exposure);
-        if (png.empty()) {
-            diagnostics.error({preview.file, 0, 0}, "preview: PNG encoding failed");
+    for (const PreviewImage& preview : bake.previews)
+        if (!writePreviewPng(transaction.stage(preview.file), preview.image, preview.exposure, diagnostics))
             return false;
-        }
-        if (!writeFileBytes(transaction.stage(preview.file), png, diagnostics)) return false;
-    }
     if (!bake.options.probes) {
         transaction.retire("probes.csv");  // an older one would not match this bake
     } else if (!writeProbesCsv(transaction.stage("probes.csv"), *bake.options.probes, bake.probe_irradiance,
@@ -110,14 +105,17 @@ bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnosti
     if (!transaction.begin(diagnostics)) return false;
     if (!stageAll(bake, transaction, diagnostics)) return false;  // the destructor removes what was staged
 
-    // stats.json last but the manifest, so that its wall time covers every other output.
+    // stats.json and timings.json last but the manifest, so that the wall time covers every
+    // other output.
     BakeReport report = bake.report;
     const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     report.phases.emplace_back("write", write_seconds);
     report.seconds += write_seconds;
     report.peak_rss_mb = peakRssMegabytes();
     if (!writeStatsJson(transaction.stage("stats.json"), report, diagnostics)) return false;
-    // The manifest last: the size and SHA-256 of every other output.
+    if (!writeTimingsJson(transaction.stage(kTimingsJsonName), report, diagnostics)) return false;
+    // The manifest last: the size and SHA-256 of every other output but timings.json (what
+    // depends on the run), so the same inputs give the same manifest on any machine.
     const std::vector<std::string> outputs = transaction.staged();
     if (!writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), outputs, radbakeGenerator(),
                        diagnostics))

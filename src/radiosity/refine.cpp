@@ -25,6 +25,7 @@ struct Evaluation {
     std::vector<uint32_t> candidates;
     size_t rays = 0;
     bool shaft = false;
+    bool classify_fell_back = false;  // ShaftResult::fell_back
 };
 
 QuadratureOptions quadratureOptions(const SolverOptions& options) {
@@ -76,6 +77,7 @@ Evaluation evaluate(const RefineState& state, const PendingLink& link) {
     ShaftResult result;
     classifyLink(state.parts, state.candidate_pool[link.candidates], query, result);
     out.shaft = true;
+    out.classify_fell_back = result.fell_back;
     if (result.occluded) {
         out.state = LinkState::Occluded;
     } else if (result.candidates.empty()) {
@@ -315,6 +317,7 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
             const PendingLink& link = pending[i];
             s.stats.rays += ev.rays;
             s.stats.shafts += ev.shaft ? 1 : 0;
+            s.stats.classify_fallbacks += ev.classify_fell_back ? 1 : 0;
             if (ev.state == LinkState::Occluded) {
                 ++s.stats.occluded_links;
                 continue;

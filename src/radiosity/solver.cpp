@@ -135,6 +135,11 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         if (pending.empty()) break;
     }
     progress.endPhase();
+    if (s.stats.classify_fallbacks > 0)
+        diagnostics.warning({scene.source_path, 0, 0},
+                            std::to_string(s.stats.classify_fallbacks) +
+                                " links could not be classified against their shafts (out of memory) and were kept as "
+                                "partly visible: rays decided them, so the light is right but the solve was slower");
     s.stats.converged = result.converged;
     s.stats.residual = result.residual;
     if (!result.converged)

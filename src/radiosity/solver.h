@@ -83,6 +83,7 @@ struct SolveStats {
     size_t roots = 0;
     size_t candidate_links = 0;       // links the oracle evaluated
     size_t partial_links = 0;         // final links found partly hidden (visibility < 1)
+    size_t classify_fallbacks = 0;    // links whose shaft classification failed (out of memory): kept partial
     int rounds = 0;
     double residual = 0.0;            // final relative residual
 };

@@ -42,6 +42,7 @@ PartVsShaft classifyPart(const ConvexPart& part, const Shaft& shaft, const Shaft
 void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candidates,
                   const ShaftQuery& query, ShaftResult& result) {
     result.occluded = false;
+    result.fell_back = false;
     result.occluder = kNoPart;
     result.candidates.clear();
     result.tested = result.outside_aabb = result.outside_obb = result.occlusion_tests = 0;
@@ -94,9 +95,11 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
         }
     } catch (const std::exception&) {
         // Only allocation can throw here. Keep every input part as a candidate and claim no
-        // occlusion: the conservative answer.
+        // occlusion: the conservative answer (rays then decide the link's visibility), flagged
+        // so that the solver counts these links and warns instead of hiding a slower solve.
         result.occluded = false;
         result.occluder = kNoPart;
+        result.fell_back = true;
         result.candidates.assign(parent_candidates.begin(), parent_candidates.end());
     }
 }

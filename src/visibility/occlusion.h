@@ -60,10 +60,15 @@ struct ShaftResult {
     uint32_t outside_aabb = 0;      // culled by the AABB test
     uint32_t outside_obb = 0;       // culled by the OBB test after passing the AABB test
     uint32_t occlusion_tests = 0;   // occlusion tests run
+    // Classification failed (only allocation can fail): `candidates` is then every input part
+    // and no occlusion is claimed, the conservative answer. Callers count and report it.
+    bool fell_back = false;
 };
 
 // Classifies `parent_candidates` (indices into parts.parts; the parent link's list, or every
-// part) against the shaft of query.source -> query.receiver. Never throws.
+// part) against the shaft of query.source -> query.receiver. An allocation failure gives the
+// conservative answer (fell_back); only failing to allocate that answer's candidate list
+// throws (std::bad_alloc, which the solver's boundary reports).
 ShaftResult classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candidates,
                          const ShaftQuery& query);
 // Same, writing into `result` (its candidate vector's capacity is reused).

@@ -1,5 +1,6 @@
 // `radbake bake` end to end on tiny literal scenes written to a temporary directory.
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "../export/mini_json.h"
 #include "cli_support.h"
 
 using namespace clitest;
@@ -89,7 +89,7 @@ std::vector<std::vector<double>> readCsv(const fs::path& path, std::string& head
 
 }  // namespace
 
-TEST_CASE("bake writes glb, ply, probes.csv and stats.json; probes match the closed form") {
+TEST_CASE("bake writes glb, ply, probes.csv, stats.json and timings.json; probes match the closed form") {
     TempDir tmp;
     writeLampScene(tmp.path);
     const fs::path out = tmp.path / "out";
@@ -98,7 +98,8 @@ TEST_CASE("bake writes glb, ply, probes.csv and stats.json; probes match the clo
     INFO(run.output);
     REQUIRE(run.exit_code == 0);
     CHECK(filesIn(out) ==
-          std::set<std::string>{"lamp.glb", "lamp.ply", "probes.csv", "stats.json", "manifest.json", "lightmaps"});
+          std::set<std::string>{"lamp.glb", "lamp.ply", "probes.csv", "stats.json", "timings.json", "manifest.json",
+                                "lightmaps"});
     CHECK(filesIn(out / "lightmaps") == std::set<std::string>{"lamp_0.exr"});
     // Nothing else beside OUTDIR: the staging directory is gone.
     CHECK(filesIn(tmp.path) == std::set<std::string>{"lamp.mtl", "lamp.obj", "out", "probes.txt"});
@@ -119,18 +120,26 @@ TEST_CASE("bake writes glb, ply, probes.csv and stats.json; probes match the clo
     CHECK(rows[1][0] == 0.5);
     CHECK(rows[1][4] == 1.0);
 
-    const minijson::Value stats = minijson::parse(readBytes(out / "stats.json"));
-    for (const char* key : {"seconds", "elements", "links", "shafts", "occluded_links", "rays", "iterations",
-                            "peak_rss_mb", "threads", "error_threshold", "local_error_threshold", "min_area", "tolerance", "max_iterations"})
-        CHECK_MESSAGE(stats[key].type == minijson::Value::Type::Number, key);
-    CHECK(stats["visibility"].str() == "exact");
-    CHECK(stats["quality"].str() == "medium");
-    CHECK(stats["phases"].type == minijson::Value::Type::Object);
-    CHECK(stats["phases"].has("import"));
-    CHECK(stats["phases"].has("write"));
-    CHECK(stats["elements"].num() >= 2);
-    CHECK(stats["peak_rss_mb"].num() > 0);
-    CHECK(stats["converged"].type == minijson::Value::Type::Bool);
+    const nlohmann::json stats = nlohmann::json::parse(readBytes(out / "stats.json"));
+    for (const char* key : {"elements", "links", "shafts", "occluded_links", "rays", "iterations", "error_threshold",
+                            "local_error_threshold", "min_area", "tolerance", "max_iterations"})
+        CHECK_MESSAGE(stats.at(key).is_number(), key);
+    CHECK(stats.at("visibility").get<std::string>() == "exact");
+    CHECK(stats.at("quality").get<std::string>() == "medium");
+    CHECK(stats.at("elements").get<double>() >= 2);
+    CHECK(stats.at("converged").is_boolean());
+    // What differs from run to run is in timings.json only.
+    const nlohmann::json timings = nlohmann::json::parse(readBytes(out / "timings.json"));
+    for (const char* key : {"seconds", "phases", "peak_rss_mb", "threads"}) {
+        CHECK_MESSAGE(!stats.contains(key), key);
+        CHECK_MESSAGE(timings.contains(key), key);
+    }
+    CHECK(timings.at("seconds").get<double>() > 0);
+    CHECK(timings.at("phases").is_object());
+    CHECK(timings.at("phases").contains("import"));
+    CHECK(timings.at("phases").contains("write"));
+    CHECK(timings.at("peak_rss_mb").get<double>() > 0);
+    CHECK(timings.at("threads").get<double>() >= 1);
 }
 
 TEST_CASE("bake without -o writes into baked/<scene name>/ under the working directory") {
@@ -139,9 +148,9 @@ TEST_CASE("bake without -o writes into baked/<scene name>/ under the working dir
     const std::string command = "cd " + quote(tmp.path) + " && '" + RADBAKE_EXE + "' bake lamp.obj --quality draft -q >/dev/null";
     CHECK(std::system(command.c_str()) == 0);
     CHECK(filesIn(tmp.path / "baked" / "lamp") ==
-          std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "manifest.json", "lightmaps"});
-    const minijson::Value stats = minijson::parse(readBytes(tmp.path / "baked" / "lamp" / "stats.json"));
-    CHECK(stats["quality"].str() == "draft");
+          std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "timings.json", "manifest.json", "lightmaps"});
+    const nlohmann::json stats = nlohmann::json::parse(readBytes(tmp.path / "baked" / "lamp" / "stats.json"));
+    CHECK(stats.at("quality").get<std::string>() == "draft");
 }
 
 TEST_CASE("bad command lines exit 2") {
@@ -218,12 +227,12 @@ TEST_CASE("outputs are byte-identical with 1 and 2 threads") {
         CHECK_MESSAGE(!a.empty(), name);
         CHECK_MESSAGE(a == readBytes(tmp.path / "t2" / name), name);
     }
-    const minijson::Value s1 = minijson::parse(readBytes(tmp.path / "t1" / "stats.json"));
-    const minijson::Value s2 = minijson::parse(readBytes(tmp.path / "t2" / "stats.json"));
-    CHECK(s1["threads"].num() == 1);
-    CHECK(s2["threads"].num() == 2);
-    CHECK(s1["links"].num() == s2["links"].num());
-    CHECK(s1["occluded_links"].num() == s2["occluded_links"].num());
+    const nlohmann::json s1 = nlohmann::json::parse(readBytes(tmp.path / "t1" / "stats.json"));
+    const nlohmann::json s2 = nlohmann::json::parse(readBytes(tmp.path / "t2" / "stats.json"));
+    CHECK(nlohmann::json::parse(readBytes(tmp.path / "t1" / "timings.json")).at("threads").get<double>() == 1);
+    CHECK(nlohmann::json::parse(readBytes(tmp.path / "t2" / "timings.json")).at("threads").get<double>() == 2);
+    CHECK(s1.at("links").get<double>() == s2.at("links").get<double>());
+    CHECK(s1.at("occluded_links").get<double>() == s2.at("occluded_links").get<double>());
     // The cube shadows the floor's centre: less light there than the unoccluded closed form.
     std::string header;
     const std::vector<std::vector<double>> rows = readCsv(tmp.path / "t1" / "probes.csv", header);

@@ -1,6 +1,7 @@
 // `radbake bake` lightmap outputs end to end: EXR atlases with their provenance, TEXCOORD_1 in
 // the glb, manifest.json that matches the files, stale lightmaps retired, previews.
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 #include <set>
 #include <string>
 
-#include "../export/mini_json.h"
 #include "cli_support.h"
 #include "export/exr_io.h"
 #include "export/hash.h"
@@ -89,29 +89,31 @@ TEST_CASE("bake writes EXR lightmaps with provenance, TEXCOORD_1, and a manifest
     CHECK(json.find("lightmaps/lamp_0.exr") != std::string::npos);
 
     const std::set<std::string> files = filesUnder(out);
-    CHECK(files == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "manifest.json", "lightmaps/lamp_0.exr"});
-    const minijson::Value manifest = minijson::parse(readBytes(out / "manifest.json"));
+    CHECK(files == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "timings.json", "manifest.json",
+                                         "lightmaps/lamp_0.exr"});
+    const nlohmann::json manifest = nlohmann::json::parse(readBytes(out / "manifest.json"));
     std::set<std::string> listed;
-    for (size_t i = 0; i < manifest["files"].size(); ++i) {
-        const minijson::Value& entry = manifest["files"][i];
-        const std::string path = entry["path"].str();
+    for (size_t i = 0; i < manifest.at("files").size(); ++i) {
+        const nlohmann::json& entry = manifest.at("files").at(i);
+        const std::string path = entry.at("path").get<std::string>();
         listed.insert(path);
-        CHECK_MESSAGE(entry["bytes"].num() == static_cast<double>(fs::file_size(out / path)), path);
-        CHECK_MESSAGE(entry["sha256"].str() == radbake::sha256File(out / path, diagnostics).value(), path);
+        CHECK_MESSAGE(entry.at("bytes").get<double>() == static_cast<double>(fs::file_size(out / path)), path);
+        CHECK_MESSAGE(entry.at("sha256").get<std::string>() == radbake::sha256File(out / path, diagnostics).value(), path);
     }
     std::set<std::string> expected = files;
     expected.erase("manifest.json");
+    expected.erase("timings.json");  // differs from run to run: never listed
     CHECK(listed == expected);
 
-    const minijson::Value stats = minijson::parse(readBytes(out / "stats.json"));
-    CHECK(stats["lightmaps"].boolean);
-    CHECK(stats["atlases"].num() == 1);
-    CHECK(stats["occupancy"].num() > 0.0);
-    CHECK(stats["occupancy"].num() <= 1.0);
-    CHECK(stats["phases"].has("lightmaps"));
-    CHECK(stats["texel_tolerance"].num() == 0.02);  // medium's
-    CHECK(stats["covered_texels"].num() > 0);
-    CHECK(stats["interpolated_texels"].num() <= stats["covered_texels"].num());
+    const nlohmann::json stats = nlohmann::json::parse(readBytes(out / "stats.json"));
+    CHECK(stats.at("lightmaps").get<bool>());
+    CHECK(stats.at("atlases").get<double>() == 1);
+    CHECK(stats.at("occupancy").get<double>() > 0.0);
+    CHECK(stats.at("occupancy").get<double>() <= 1.0);
+    CHECK(nlohmann::json::parse(readBytes(out / "timings.json")).at("phases").contains("lightmaps"));
+    CHECK(stats.at("texel_tolerance").get<double>() == 0.02);  // medium's
+    CHECK(stats.at("covered_texels").get<double>() > 0);
+    CHECK(stats.at("interpolated_texels").get<double>() <= stats.at("covered_texels").get<double>());
 }
 
 TEST_CASE("a re-bake with fewer atlases, then --no-lightmaps, leaves no stale lightmaps") {
@@ -136,9 +138,9 @@ TEST_CASE("a re-bake with fewer atlases, then --no-lightmaps, leaves no stale li
     INFO(none.output);
     REQUIRE(none.exit_code == 0);
     CHECK_FALSE(fs::exists(out / "lightmaps" / "lamp_0.exr"));
-    CHECK(filesUnder(out) == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "manifest.json"});
+    CHECK(filesUnder(out) == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "timings.json", "manifest.json"});
     CHECK(glbJson(out / "lamp.glb").find("TEXCOORD_1") == std::string::npos);
-    CHECK_FALSE(minijson::parse(readBytes(out / "stats.json"))["lightmaps"].boolean);
+    CHECK_FALSE(nlohmann::json::parse(readBytes(out / "stats.json")).at("lightmaps").get<bool>());
 }
 
 TEST_CASE("--exr-float writes 32-bit lightmaps; --preview writes PNGs of the view and of each atlas") {
@@ -153,7 +155,7 @@ TEST_CASE("--exr-float writes 32-bit lightmaps; --preview writes PNGs of the vie
     const std::optional<radbake::RgbImage> atlas = radbake::readExr(out / "lightmaps" / "lamp_0.exr", diagnostics);
     REQUIRE(atlas);
     CHECK_FALSE(atlas->half);
-    CHECK(minijson::parse(readBytes(out / "stats.json"))["texel_tolerance"].num() == 0.05);  // draft's
+    CHECK(nlohmann::json::parse(readBytes(out / "stats.json")).at("texel_tolerance").get<double>() == 0.05);  // draft's
     for (const char* name : {"preview/lamp_view.png", "preview/lamp_atlas_0.png"}) {
         const std::string png = readBytes(out / name);
         REQUIRE_MESSAGE(png.size() > 24, name);
@@ -183,10 +185,10 @@ TEST_CASE("--max-texels: the default density is lowered to fit, with a warning; 
     REQUIRE(lowered.exit_code == 0);
     CHECK(lowered.output.find("warning: lightmaps at the default 16 texels per metre would need 4352 texels, above "
                               "--max-texels 1000") != std::string::npos);
-    const minijson::Value stats = minijson::parse(readBytes(tmp.path / "a" / "stats.json"));
-    CHECK(stats["texel_density"].num() < 16.0 * std::sqrt(1000.0 / 4352.0));
-    CHECK(stats["texel_density"].num() > 0.8 * 16.0 * std::sqrt(1000.0 / 4352.0));
-    CHECK(stats["covered_texels"].num() <= 1000);
+    const nlohmann::json stats = nlohmann::json::parse(readBytes(tmp.path / "a" / "stats.json"));
+    CHECK(stats.at("texel_density").get<double>() < 16.0 * std::sqrt(1000.0 / 4352.0));
+    CHECK(stats.at("texel_density").get<double>() > 0.8 * 16.0 * std::sqrt(1000.0 / 4352.0));
+    CHECK(stats.at("covered_texels").get<double>() <= 1000);
 
     const RunResult refused = runRadbake(scene + " --texel-density 16 -o " + quote(tmp.path / "b"));
     INFO(refused.output);

@@ -1,5 +1,6 @@
 // Golden-file comparison: identical copies pass, a one-texel / one-vertex / one-probe change
-// is found and named, values within tolerance pass, and layouts that differ give 2.
+// is found and named, a moved vertex, a turned normal or a shifted UV fails, values within
+// tolerance pass, and layouts that differ give 2.
 #include <doctest/doctest.h>
 
 #include <stdlib.h>
@@ -108,6 +109,20 @@ const FileDifference& fileNamed(const CompareResult& result, const std::string& 
     return result.files.front();
 }
 
+std::string channelNames(const FileDifference& file) {
+    std::string names;
+    for (const ChannelDifference& channel : file.channels) names += (names.empty() ? "" : " ") + channel.name;
+    return names;
+}
+
+// The channel named `name`, which must be there.
+const ChannelDifference& channelNamed(const FileDifference& file, const std::string& name) {
+    for (const ChannelDifference& channel : file.channels)
+        if (channel.name == name) return channel;
+    FAIL("no channel " << name << " in " << file.file);
+    return file.channels.front();
+}
+
 // The channel whose worst place fails, or nullptr.
 const ChannelDifference* failingChannel(const FileDifference& file) {
     for (const ChannelDifference& channel : file.channels)
@@ -133,9 +148,12 @@ TEST_CASE("identical bake directories compare equal, file by file") {
     CHECK(fileNamed(result, "probes.csv").samples == 2);
     for (const FileDifference& file : result.files) {
         CHECK(file.comparable);
-        REQUIRE(file.channels.size() == 3);
+        // Light, plus x y z nx ny nz for the meshes (no lightmaps here: no UVs).
+        CHECK(file.channels.size() == (file.kind == "glb" || file.kind == "ply" ? 9u : 3u));
         for (const ChannelDifference& channel : file.channels) CHECK(channel.max_abs == 0.0);
     }
+    CHECK(channelNames(fileNamed(result, "room.glb")) == "R G B x y z nx ny nz");
+    CHECK(channelNames(fileNamed(result, "room.ply")) == "red green blue x y z nx ny nz");
 }
 
 TEST_CASE("a one-texel change is found and named") {
@@ -238,7 +256,8 @@ TEST_CASE("different layouts, missing or extra files and mismatched kinds are no
         CHECK(result.exitCode() == 2);
         CHECK_FALSE(fileNamed(result, "room.glb").comparable);
         CHECK_FALSE(fileNamed(result, "room.ply").comparable);
-        CHECK(fileNamed(result, "room.ply").problem == "different layouts (7 vertices vs 8 vertices)");
+        CHECK(fileNamed(result, "room.ply").problem ==
+              "different layouts (7 vertices: x y z nx ny nz vs 8 vertices: x y z nx ny nz)");
     }
     SUBCASE("probe positions") {
         files.probes[1].position.z = 3.5;
@@ -273,7 +292,7 @@ TEST_CASE("different layouts, missing or extra files and mismatched kinds are no
     }
 }
 
-TEST_CASE("lightmap layouts: glb primitives per atlas, TEXCOORD_1 and u1 v1 must match exactly") {
+TEST_CASE("lightmap layouts: glb primitives per atlas and their files must match; lightmap UVs are compared") {
     TempDir tmp;
     BakeFiles files;
     files.with_lightmaps = true;
@@ -301,16 +320,39 @@ TEST_CASE("lightmap layouts: glb primitives per atlas, TEXCOORD_1 and u1 v1 must
         REQUIRE(ply);
         CHECK(ply->worst_place == "vertex 8");
     }
-    SUBCASE("different lightmap UVs make the files not comparable") {
+    SUBCASE("a shifted lightmap UV differs, named by its vertex, in TEXCOORD_0, TEXCOORD_1 and u1") {
         files.lightmaps.meshes[1].uv[4].x = 0.3f;  // mesh b, chart on atlas 1, its second vertex
         files.write(tmp.path / "b");
         const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
-        CHECK(result.exitCode() == 2);
-        CHECK(fileNamed(result, "room.glb").problem ==
-              "TEXCOORD_1 of mesh 'b' primitive 1 differs at vertex 1: (0.25, 0.5) vs (0.300000012, 0.5) (must match exactly)");
-        CHECK(fileNamed(result, "room.ply").problem ==
-              "u1 v1 differs at vertex 7: (0.25, 0.5) vs (0.300000012, 0.5) (must match exactly)");
-        CHECK(fileNamed(result, "lightmaps/room_0.exr").comparable);
+        CHECK(result.exitCode() == 1);
+        const FileDifference& glb = fileNamed(result, "room.glb");
+        CHECK(glb.comparable);
+        CHECK(channelNames(glb) == "R G B x y z nx ny nz u0 v0 u1 v1");
+        for (const char* name : {"u0", "u1"}) {
+            const ChannelDifference& u = channelNamed(glb, name);
+            CHECK(u.worst_excess > 1.0);
+            CHECK(u.worst_place == "mesh 'b' primitive 1 vertex 1");
+            CHECK(u.worst_a == 0.25);
+            CHECK(u.worst_b == doctest::Approx(0.3));
+        }
+        CHECK(channelNamed(glb, "v1").max_abs == 0.0);
+        CHECK(channelNamed(glb, "G").max_abs == 0.0);
+        const ChannelDifference& ply_u = channelNamed(fileNamed(result, "room.ply"), "u1");
+        CHECK(ply_u.worst_excess > 1.0);
+        CHECK(ply_u.worst_place == "vertex 7");
+        CHECK(fileNamed(result, "lightmaps/room_0.exr").within);
+        CHECK(formatCompareResult(result).find("DIFFERS room.ply: vertex 7 u1 is 0.25 vs 0.300000012") !=
+              std::string::npos);
+    }
+    SUBCASE("a UV moved by less than uv_tol passes") {
+        files.lightmaps.meshes[1].uv[4].x = std::nextafter(0.25f, 1.0f);  // 3e-8 further
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 0);
+        CHECK(channelNamed(fileNamed(result, "room.glb"), "u1").max_abs > 0.0);
+        CompareOptions exact;
+        exact.uv_tol = 0.0;
+        CHECK(comparePaths(tmp.path / "a", tmp.path / "b", exact).exitCode() == 1);
     }
     SUBCASE("a different atlas, or lightmaps on one side only, are not comparable") {
         files.lightmaps.atlas_files[1] = "lightmaps/room_9.exr";
@@ -318,14 +360,16 @@ TEST_CASE("lightmap layouts: glb primitives per atlas, TEXCOORD_1 and u1 v1 must
         CompareResult result = comparePaths(tmp.path / "a" / "room.glb", tmp.path / "b" / "room.glb", CompareOptions{});
         CHECK(result.exitCode() == 2);
         CHECK(result.files[0].problem ==
-              "different layouts (mesh 'a': 3 vertices, lightmap lightmaps/room_1.exr, TEXCOORD_1 vs mesh 'a': 3 "
-              "vertices, lightmap lightmaps/room_9.exr, TEXCOORD_1)");
+              "different layouts (mesh 'a': 3 vertices: POSITION NORMAL TEXCOORD_0 TEXCOORD_1, lightmap "
+              "lightmaps/room_1.exr vs mesh 'a': 3 vertices: POSITION NORMAL TEXCOORD_0 TEXCOORD_1, lightmap "
+              "lightmaps/room_9.exr)");
 
         files.with_lightmaps = false;
         files.write(tmp.path / "c");
         result = comparePaths(tmp.path / "a" / "room.ply", tmp.path / "c" / "room.ply", CompareOptions{});
         CHECK(result.exitCode() == 2);
-        CHECK(result.files[0].problem == "different layouts (9 vertices, u1 v1, lightmap vs 7 vertices)");
+        CHECK(result.files[0].problem ==
+              "different layouts (9 vertices: x y z nx ny nz u1 v1 lightmap vs 7 vertices: x y z nx ny nz)");
     }
     SUBCASE("the lightmap index of a PLY vertex must match") {
         files.write(tmp.path / "b");
@@ -374,4 +418,60 @@ TEST_CASE("compare recurses into lightmaps/ and ignores manifest.json and PNG pr
     CHECK(fewer.exitCode() == 2);
     REQUIRE(fewer.problems.size() == 1);
     CHECK(fewer.problems[0] == "lightmaps/room_1.exr is missing from " + (tmp.path / "b").string());
+}
+
+TEST_CASE("geometry: a moved vertex or a turned normal fails, named by its vertex, with the vertex count kept") {
+    TempDir tmp;
+    BakeFiles files;
+    files.scene.meshes[0].normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};  // given normals: not from the positions
+    files.write(tmp.path / "a");
+
+    SUBCASE("identical geometry passes") {
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 0);
+        for (const char* name : {"room.glb", "room.ply"})
+            for (const char* channel : {"x", "y", "z", "nx", "ny", "nz"})
+                CHECK(channelNamed(fileNamed(result, name), channel).max_abs == 0.0);
+    }
+    SUBCASE("a vertex moved by 1 mm fails; one float rounding passes") {
+        files.scene.meshes[1].positions[2].y += 0.001f;  // mesh b vertex 2: (0, 3, 1), extent sqrt(14) ~ 3.7
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 1);
+        const FileDifference& glb = fileNamed(result, "room.glb");
+        const ChannelDifference* moved = failingChannel(glb);
+        REQUIRE(moved);
+        CHECK(moved->name == "y");
+        CHECK(moved->worst_place == "mesh 'b' vertex 2");
+        CHECK(moved->worst_a == 3.0);
+        CHECK(moved->worst_b == doctest::Approx(3.001));
+        CHECK(channelNamed(glb, "B").max_abs == 0.0);  // the light is the same
+        const ChannelDifference& ply = channelNamed(fileNamed(result, "room.ply"), "y");
+        CHECK(ply.worst_excess > 1.0);
+        CHECK(ply.worst_place == "vertex 5");
+        CHECK(formatCompareResult(result).find("DIFFERS room.glb: mesh 'b' vertex 2 y is 3 vs 3.00099993") !=
+              std::string::npos);
+
+        files.scene.meshes[1].positions[2].y = std::nextafter(3.0f, 4.0f);  // 2.4e-7 < 1e-6 * 3.7
+        files.write(tmp.path / "c");
+        const CompareResult rounded = comparePaths(tmp.path / "a", tmp.path / "c", CompareOptions{});
+        CHECK(rounded.exitCode() == 0);
+        CHECK(channelNamed(fileNamed(rounded, "room.glb"), "y").max_abs > 0.0);
+    }
+    SUBCASE("a turned normal fails") {
+        files.scene.meshes[0].normals[1] = glm::normalize(Vec3(0.0f, 0.01f, 1.0f));  // 0.57 degrees
+        files.write(tmp.path / "b");
+        const CompareResult result = comparePaths(tmp.path / "a", tmp.path / "b", CompareOptions{});
+        CHECK(result.exitCode() == 1);
+        const ChannelDifference* turned = failingChannel(fileNamed(result, "room.glb"));
+        REQUIRE(turned);
+        CHECK(turned->name == "ny");
+        CHECK(turned->worst_place == "mesh 'a' vertex 1");
+        CHECK(channelNamed(fileNamed(result, "room.glb"), "y").max_abs == 0.0);
+        const ChannelDifference* ply = failingChannel(fileNamed(result, "room.ply"));
+        REQUIRE(ply);
+        CHECK(ply->name == "ny");
+        CHECK(ply->worst_place == "vertex 1");
+    }
 }

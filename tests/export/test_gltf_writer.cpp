@@ -1,6 +1,7 @@
 // The .glb writer on a literal scene: the container, the JSON chunk parsed back, and every
 // attribute decoded from the BIN chunk compared with what went in (exact: floats are copied).
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -9,7 +10,6 @@
 
 #include "export/gltf_writer.h"
 #include "export/hash.h"
-#include "mini_json.h"
 
 using namespace radbake;
 
@@ -64,7 +64,7 @@ VertexBake literalBake() {
 }
 
 struct Glb {
-    minijson::Value json;
+    nlohmann::json json;
     std::string bin;
 };
 
@@ -79,7 +79,7 @@ Glb splitGlb(const std::string& bytes) {
     CHECK(json_length % 4 == 0);
     REQUIRE(20 + json_length + 8 <= bytes.size());
     Glb glb;
-    glb.json = minijson::parse(bytes.substr(20, json_length));
+    glb.json = nlohmann::json::parse(bytes.substr(20, json_length));
     const size_t bin_header = 20 + json_length;
     const uint32_t bin_length = u32At(bytes, bin_header);
     CHECK(u32At(bytes, bin_header + 4) == 0x004E4942u);
@@ -92,11 +92,11 @@ Glb splitGlb(const std::string& bytes) {
 // Reads accessor `index` as floats (or uint32 for indices) through its buffer view.
 template <typename T>
 std::vector<T> readAccessor(const Glb& glb, size_t index, size_t components) {
-    const minijson::Value& accessor = glb.json["accessors"][index];
-    const minijson::Value& view = glb.json["bufferViews"][accessor["bufferView"].integer()];
-    const size_t count = accessor["count"].integer() * components;
-    const size_t offset = view["byteOffset"].integer();
-    REQUIRE(view["byteLength"].integer() == count * sizeof(T));
+    const nlohmann::json& accessor = glb.json.at("accessors").at(index);
+    const nlohmann::json& view = glb.json.at("bufferViews").at(accessor.at("bufferView").get<size_t>());
+    const size_t count = accessor.at("count").get<size_t>() * components;
+    const size_t offset = view.at("byteOffset").get<size_t>();
+    REQUIRE(view.at("byteLength").get<size_t>() == count * sizeof(T));
     REQUIRE(offset + count * sizeof(T) <= glb.bin.size());
     std::vector<T> out(count);
     std::memcpy(out.data(), glb.bin.data() + offset, count * sizeof(T));
@@ -110,26 +110,26 @@ TEST_CASE("glb container, JSON chunk and buffer layout") {
     const std::string bytes = encodeGlb(literalScene(), literalBake(), {"radbake test"}, diagnostics);
     CHECK_FALSE(diagnostics.hasErrors());
     const Glb glb = splitGlb(bytes);
-    const minijson::Value& json = glb.json;
+    const nlohmann::json& json = glb.json;
 
-    CHECK(json["asset"]["version"].str() == "2.0");
-    CHECK(json["asset"]["generator"].str() == "radbake test");
-    CHECK(json["meshes"].size() == 2);  // the mesh without triangles is left out
-    CHECK(json["nodes"].size() == 2);
-    CHECK(json["scenes"][0]["nodes"].size() == 2);
-    CHECK(json["materials"].size() == 2);
-    CHECK(json["accessors"].size() == 10);  // 5 per drawn mesh
-    CHECK(json["bufferViews"].size() == 10);
+    CHECK(json.at("asset").at("version").get<std::string>() == "2.0");
+    CHECK(json.at("asset").at("generator").get<std::string>() == "radbake test");
+    CHECK(json.at("meshes").size() == 2);  // the mesh without triangles is left out
+    CHECK(json.at("nodes").size() == 2);
+    CHECK(json.at("scenes").at(0).at("nodes").size() == 2);
+    CHECK(json.at("materials").size() == 2);
+    CHECK(json.at("accessors").size() == 10);  // 5 per drawn mesh
+    CHECK(json.at("bufferViews").size() == 10);
 
     // Floor: 4 vertices * 4 attributes * 12 bytes + 6 indices * 4; lamp: 3 * 4 * 12 + 3 * 4.
     const size_t expected_bytes = 4 * 4 * 12 + 6 * 4 + 3 * 4 * 12 + 3 * 4;
-    CHECK(json["buffers"][0]["byteLength"].integer() == expected_bytes);
+    CHECK(json.at("buffers").at(0).at("byteLength").get<size_t>() == expected_bytes);
     CHECK(glb.bin.size() == expected_bytes);  // already a multiple of 4: no padding
     size_t view_sum = 0;
-    for (const minijson::Value& view : json["bufferViews"].array) {
-        CHECK(view["byteOffset"].integer() % 4 == 0);
-        CHECK(view["byteOffset"].integer() == view_sum);  // tightly packed, in order
-        view_sum += view["byteLength"].integer();
+    for (const nlohmann::json& view : json.at("bufferViews")) {
+        CHECK(view.at("byteOffset").get<size_t>() % 4 == 0);
+        CHECK(view.at("byteOffset").get<size_t>() == view_sum);  // tightly packed, in order
+        view_sum += view.at("byteLength").get<size_t>();
     }
     CHECK(view_sum == expected_bytes);
 }
@@ -139,21 +139,21 @@ TEST_CASE("glb attributes decode back to the scene and the bake") {
     const Scene scene = literalScene();
     const VertexBake bake = literalBake();
     const Glb glb = splitGlb(encodeGlb(scene, bake, {}, diagnostics));
-    const minijson::Value& json = glb.json;
+    const nlohmann::json& json = glb.json;
 
     for (size_t m = 0; m < 2; ++m) {
         const Mesh& mesh = scene.meshes[m];
-        const minijson::Value& primitive = json["meshes"][m]["primitives"][0];
-        CHECK(json["meshes"][m]["name"].str() == mesh.name);
-        CHECK(primitive["mode"].integer() == 4);
-        CHECK(primitive["material"].integer() == mesh.material);
-        const minijson::Value& attributes = primitive["attributes"];
+        const nlohmann::json& primitive = json.at("meshes").at(m).at("primitives").at(0);
+        CHECK(json.at("meshes").at(m).at("name").get<std::string>() == mesh.name);
+        CHECK(primitive.at("mode").get<size_t>() == 4);
+        CHECK(primitive.at("material").get<size_t>() == mesh.material);
+        const nlohmann::json& attributes = primitive.at("attributes");
 
-        const size_t position_index = attributes["POSITION"].integer();
-        const minijson::Value& position_accessor = json["accessors"][position_index];
-        CHECK(position_accessor["componentType"].integer() == 5126);
-        CHECK(position_accessor["type"].str() == "VEC3");
-        CHECK(position_accessor["count"].integer() == mesh.positions.size());
+        const size_t position_index = attributes.at("POSITION").get<size_t>();
+        const nlohmann::json& position_accessor = json.at("accessors").at(position_index);
+        CHECK(position_accessor.at("componentType").get<size_t>() == 5126);
+        CHECK(position_accessor.at("type").get<std::string>() == "VEC3");
+        CHECK(position_accessor.at("count").get<size_t>() == mesh.positions.size());
         const std::vector<float> positions = readAccessor<float>(glb, position_index, 3);
         Vec3 lo(1e30f), hi(-1e30f);
         for (size_t v = 0; v < mesh.positions.size(); ++v) {
@@ -164,15 +164,15 @@ TEST_CASE("glb attributes decode back to the scene and the bake") {
             hi = glm::max(hi, mesh.positions[v]);
         }
         for (int k = 0; k < 3; ++k) {
-            CHECK(position_accessor["min"][k].num() == doctest::Approx(lo[k]).epsilon(1e-8));
-            CHECK(position_accessor["max"][k].num() == doctest::Approx(hi[k]).epsilon(1e-8));
+            CHECK(position_accessor.at("min").at(k).get<double>() == doctest::Approx(lo[k]).epsilon(1e-8));
+            CHECK(position_accessor.at("max").at(k).get<double>() == doctest::Approx(hi[k]).epsilon(1e-8));
         }
 
-        const std::vector<float> colors = readAccessor<float>(glb, attributes["_RADBAKE_LIGHT"].integer(), 3);
+        const std::vector<float> colors = readAccessor<float>(glb, attributes.at("_RADBAKE_LIGHT").get<size_t>(), 3);
         for (size_t v = 0; v < mesh.positions.size(); ++v)
             for (int k = 0; k < 3; ++k) CHECK(colors[3 * v + k] == bake.values[m][v][k]);
 
-        const std::vector<float> normals = readAccessor<float>(glb, attributes["NORMAL"].integer(), 3);
+        const std::vector<float> normals = readAccessor<float>(glb, attributes.at("NORMAL").get<size_t>(), 3);
         const float expected_y = m == 0 ? 1.0f : -1.0f;  // floor: from its faces; lamp: given, normalised
         for (size_t v = 0; v < mesh.positions.size(); ++v) {
             CHECK(normals[3 * v + 0] == 0.0f);
@@ -180,9 +180,9 @@ TEST_CASE("glb attributes decode back to the scene and the bake") {
             CHECK(normals[3 * v + 2] == 0.0f);
         }
 
-        const minijson::Value& index_accessor = json["accessors"][primitive["indices"].integer()];
-        CHECK(index_accessor["componentType"].integer() == 5125);
-        const std::vector<uint32_t> indices = readAccessor<uint32_t>(glb, primitive["indices"].integer(), 1);
+        const nlohmann::json& index_accessor = json.at("accessors").at(primitive.at("indices").get<size_t>());
+        CHECK(index_accessor.at("componentType").get<size_t>() == 5125);
+        const std::vector<uint32_t> indices = readAccessor<uint32_t>(glb, primitive.at("indices").get<size_t>(), 1);
         REQUIRE(indices.size() == 3 * mesh.triangles.size());
         for (size_t t = 0; t < mesh.triangles.size(); ++t)
             for (int k = 0; k < 3; ++k) CHECK(indices[3 * t + k] == mesh.triangles[t][k]);
@@ -193,31 +193,31 @@ TEST_CASE("glb materials: base colour, emission and KHR_materials_emissive_stren
     Diagnostics diagnostics;
     Scene scene = literalScene();
     const Glb glb = splitGlb(encodeGlb(scene, literalBake(), {}, diagnostics));
-    const minijson::Value& materials = glb.json["materials"];
+    const nlohmann::json& materials = glb.json.at("materials");
 
-    const minijson::Value& floor = materials[0];
-    CHECK(floor["name"].str() == "floor");
-    CHECK(floor["pbrMetallicRoughness"]["baseColorFactor"][0].num() == doctest::Approx(0.5));
-    CHECK(floor["pbrMetallicRoughness"]["baseColorFactor"][2].num() == doctest::Approx(0.7));
-    CHECK(floor["pbrMetallicRoughness"]["baseColorFactor"][3].num() == 1.0);
-    CHECK(floor["pbrMetallicRoughness"]["metallicFactor"].num() == 0.0);
-    CHECK_FALSE(floor.has("emissiveFactor"));
+    const nlohmann::json& floor = materials.at(0);
+    CHECK(floor.at("name").get<std::string>() == "floor");
+    CHECK(floor.at("pbrMetallicRoughness").at("baseColorFactor").at(0).get<double>() == doctest::Approx(0.5));
+    CHECK(floor.at("pbrMetallicRoughness").at("baseColorFactor").at(2).get<double>() == doctest::Approx(0.7));
+    CHECK(floor.at("pbrMetallicRoughness").at("baseColorFactor").at(3).get<double>() == 1.0);
+    CHECK(floor.at("pbrMetallicRoughness").at("metallicFactor").get<double>() == 0.0);
+    CHECK_FALSE(floor.contains("emissiveFactor"));
 
-    const minijson::Value& lamp = materials[1];
-    CHECK(lamp["name"].str() == "lamp \"bright\"");  // escaped in JSON, read back intact
-    CHECK(lamp["emissiveFactor"][0].num() == 1.0);
-    CHECK(lamp["emissiveFactor"][1].num() == 0.5);
-    CHECK(lamp["emissiveFactor"][2].num() == 0.0625);
-    CHECK(lamp["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].num() == 8.0);
-    REQUIRE(glb.json["extensionsUsed"].size() == 1);
-    CHECK(glb.json["extensionsUsed"][0].str() == "KHR_materials_emissive_strength");
+    const nlohmann::json& lamp = materials.at(1);
+    CHECK(lamp.at("name").get<std::string>() == "lamp \"bright\"");  // escaped in JSON, read back intact
+    CHECK(lamp.at("emissiveFactor").at(0).get<double>() == 1.0);
+    CHECK(lamp.at("emissiveFactor").at(1).get<double>() == 0.5);
+    CHECK(lamp.at("emissiveFactor").at(2).get<double>() == 0.0625);
+    CHECK(lamp.at("extensions").at("KHR_materials_emissive_strength").at("emissiveStrength").get<double>() == 8.0);
+    REQUIRE(glb.json.at("extensionsUsed").size() == 1);
+    CHECK(glb.json.at("extensionsUsed").at(0).get<std::string>() == "KHR_materials_emissive_strength");
 
     // Emission within [0, 1] needs no extension.
     scene.materials[1].emission = Vec3(0.25f, 1.0f, 0.0f);
     const Glb dim = splitGlb(encodeGlb(scene, literalBake(), {}, diagnostics));
-    CHECK_FALSE(dim.json.has("extensionsUsed"));
-    CHECK(dim.json["materials"][1]["emissiveFactor"][0].num() == 0.25);
-    CHECK_FALSE(dim.json["materials"][1].has("extensions"));
+    CHECK_FALSE(dim.json.contains("extensionsUsed"));
+    CHECK(dim.json.at("materials").at(1).at("emissiveFactor").at(0).get<double>() == 0.25);
+    CHECK_FALSE(dim.json.at("materials").at(1).contains("extensions"));
 }
 
 TEST_CASE("glb writer refuses a bake that does not match the scene") {
@@ -237,7 +237,7 @@ TEST_CASE("glb writer replaces non-finite baked values by 0 with one warning") {
     const Glb glb = splitGlb(encodeGlb(literalScene(), bake, {}, diagnostics));
     CHECK(diagnostics.warningCount() == 1);
     const std::vector<float> colors =
-        readAccessor<float>(glb, glb.json["meshes"][0]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
+        readAccessor<float>(glb, glb.json.at("meshes").at(0).at("primitives").at(0).at("attributes").at("_RADBAKE_LIGHT").get<size_t>(), 3);
     CHECK(colors[3 * 1 + 0] == 0.0f);  // the whole vertex value is zeroed
     CHECK(colors[3 * 1 + 1] == 0.0f);
     CHECK(colors[3 * 2 + 0] == 4.0f);
@@ -248,10 +248,10 @@ TEST_CASE("COLOR_0 is the baked value clamped to [0, 1], as glTF requires; _RADB
     const VertexBake bake = literalBake();
     const Glb glb = splitGlb(encodeGlb(literalScene(), bake, {"radbake test"}, diagnostics));
     for (size_t m = 0; m < 2; ++m) {
-        const minijson::Value& attributes = glb.json["meshes"][m]["primitives"][0]["attributes"];
-        CHECK_FALSE(attributes.has("TEXCOORD_0"));  // no lightmaps, no UVs
-        const std::vector<float> color = readAccessor<float>(glb, attributes["COLOR_0"].integer(), 3);
-        const std::vector<float> light = readAccessor<float>(glb, attributes["_RADBAKE_LIGHT"].integer(), 3);
+        const nlohmann::json& attributes = glb.json.at("meshes").at(m).at("primitives").at(0).at("attributes");
+        CHECK_FALSE(attributes.contains("TEXCOORD_0"));  // no lightmaps, no UVs
+        const std::vector<float> color = readAccessor<float>(glb, attributes.at("COLOR_0").get<size_t>(), 3);
+        const std::vector<float> light = readAccessor<float>(glb, attributes.at("_RADBAKE_LIGHT").get<size_t>(), 3);
         REQUIRE(color.size() == 3 * bake.values[m].size());
         for (size_t v = 0; v < bake.values[m].size(); ++v)
             for (int k = 0; k < 3; ++k) {
@@ -303,9 +303,9 @@ LightmapFiles literalLightmaps() {
     return files;
 }
 
-std::vector<std::string> strings(const minijson::Value& list) {
+std::vector<std::string> strings(const nlohmann::json& list) {
     std::vector<std::string> out;
-    for (const minijson::Value& item : list.array) out.push_back(item.str());
+    for (const nlohmann::json& item : list) out.push_back(item.get<std::string>());
     return out;
 }
 
@@ -320,48 +320,48 @@ TEST_CASE("glb with lightmaps: one primitive per atlas, TEXCOORD_1, interpolated
     Diagnostics diagnostics;
     const Glb glb = splitGlb(encodeGlb(scene, bake, options, diagnostics));
     CHECK(diagnostics.all().empty());
-    const minijson::Value& json = glb.json;
-    CHECK(strings(json["asset"]["extras"]["radbake_lightmaps"]) == lightmaps.atlas_files);
-    REQUIRE(json["meshes"].size() == 2);
+    const nlohmann::json& json = glb.json;
+    CHECK(strings(json.at("asset").at("extras").at("radbake_lightmaps")) == lightmaps.atlas_files);
+    REQUIRE(json.at("meshes").size() == 2);
 
     // Per scene mesh: the atlases its primitives should cover, in order.
     const std::vector<std::vector<int>> expected_atlases = {{0, 1}, {0}};
     for (size_t m = 0; m < 2; ++m) {
         CAPTURE(m);
-        const minijson::Value& mesh_json = json["meshes"][m];
+        const nlohmann::json& mesh_json = json.at("meshes").at(m);
         const LightmapMesh& lm = lightmaps.meshes[m];
         std::vector<std::string> expected_files;
         for (int atlas : expected_atlases[m]) expected_files.push_back(lightmaps.atlas_files[atlas]);
-        CHECK(strings(mesh_json["extras"]["radbake_lightmaps"]) == expected_files);
-        REQUIRE(mesh_json["primitives"].size() == expected_atlases[m].size());
+        CHECK(strings(mesh_json.at("extras").at("radbake_lightmaps")) == expected_files);
+        REQUIRE(mesh_json.at("primitives").size() == expected_atlases[m].size());
 
         for (size_t p = 0; p < expected_atlases[m].size(); ++p) {
             CAPTURE(p);
             const int atlas = expected_atlases[m][p];
-            const minijson::Value& primitive = mesh_json["primitives"][p];
-            CHECK(primitive["extras"]["radbake_lightmap"].str() == lightmaps.atlas_files[atlas]);
-            CHECK(primitive["extras"]["radbake_lightmap_index"].integer() == static_cast<size_t>(atlas));
-            CHECK(primitive["material"].integer() == scene.meshes[m].material);
-            const minijson::Value& attributes = primitive["attributes"];
-            CHECK(attributes["TEXCOORD_0"].integer() == attributes["TEXCOORD_1"].integer());
+            const nlohmann::json& primitive = mesh_json.at("primitives").at(p);
+            CHECK(primitive.at("extras").at("radbake_lightmap").get<std::string>() == lightmaps.atlas_files[atlas]);
+            CHECK(primitive.at("extras").at("radbake_lightmap_index").get<size_t>() == static_cast<size_t>(atlas));
+            CHECK(primitive.at("material").get<size_t>() == scene.meshes[m].material);
+            const nlohmann::json& attributes = primitive.at("attributes");
+            CHECK(attributes.at("TEXCOORD_0").get<size_t>() == attributes.at("TEXCOORD_1").get<size_t>());
 
             // Brute force: the lightmap triangles on this atlas, in order, against the decoded ones.
             std::vector<uint32_t> expected_corners;
             for (const UVec3& t : lm.triangles)
                 if (lm.atlas[t.x] == atlas) expected_corners.insert(expected_corners.end(), {t.x, t.y, t.z});
-            const std::vector<uint32_t> indices = readAccessor<uint32_t>(glb, primitive["indices"].integer(), 1);
+            const std::vector<uint32_t> indices = readAccessor<uint32_t>(glb, primitive.at("indices").get<size_t>(), 1);
             REQUIRE(indices.size() == expected_corners.size());
             std::vector<uint32_t> distinct = expected_corners;
             std::sort(distinct.begin(), distinct.end());
             distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
 
-            const size_t position_index = attributes["POSITION"].integer();
-            const minijson::Value& position_accessor = json["accessors"][position_index];
-            CHECK(position_accessor["count"].integer() == distinct.size());  // only this atlas's vertices
+            const size_t position_index = attributes.at("POSITION").get<size_t>();
+            const nlohmann::json& position_accessor = json.at("accessors").at(position_index);
+            CHECK(position_accessor.at("count").get<size_t>() == distinct.size());  // only this atlas's vertices
             const std::vector<float> positions = readAccessor<float>(glb, position_index, 3);
-            const std::vector<float> normals = readAccessor<float>(glb, attributes["NORMAL"].integer(), 3);
-            const std::vector<float> colors = readAccessor<float>(glb, attributes["_RADBAKE_LIGHT"].integer(), 3);
-            const std::vector<float> uvs = readAccessor<float>(glb, attributes["TEXCOORD_1"].integer(), 2);
+            const std::vector<float> normals = readAccessor<float>(glb, attributes.at("NORMAL").get<size_t>(), 3);
+            const std::vector<float> colors = readAccessor<float>(glb, attributes.at("_RADBAKE_LIGHT").get<size_t>(), 3);
+            const std::vector<float> uvs = readAccessor<float>(glb, attributes.at("TEXCOORD_1").get<size_t>(), 2);
             REQUIRE(uvs.size() == 2 * distinct.size());
             for (size_t i = 0; i < indices.size(); ++i) {
                 const uint32_t out = indices[i], in = expected_corners[i];
@@ -382,24 +382,24 @@ TEST_CASE("glb with lightmaps: one primitive per atlas, TEXCOORD_1, interpolated
                 hi = glm::max(hi, lm.positions[v]);
             }
             for (int k = 0; k < 3; ++k) {
-                CHECK(position_accessor["min"][k].num() == doctest::Approx(lo[k]).epsilon(1e-8));
-                CHECK(position_accessor["max"][k].num() == doctest::Approx(hi[k]).epsilon(1e-8));
+                CHECK(position_accessor.at("min").at(k).get<double>() == doctest::Approx(lo[k]).epsilon(1e-8));
+                CHECK(position_accessor.at("max").at(k).get<double>() == doctest::Approx(hi[k]).epsilon(1e-8));
             }
-            const minijson::Value& uv_accessor = json["accessors"][attributes["TEXCOORD_1"].integer()];
-            CHECK(uv_accessor["type"].str() == "VEC2");
+            const nlohmann::json& uv_accessor = json.at("accessors").at(attributes.at("TEXCOORD_1").get<size_t>());
+            CHECK(uv_accessor.at("type").get<std::string>() == "VEC2");
             for (int k = 0; k < 2; ++k) {
-                CHECK(uv_accessor["min"][k].num() >= 0.0);
-                CHECK(uv_accessor["max"][k].num() <= 1.0);
+                CHECK(uv_accessor.at("min").at(k).get<double>() >= 0.0);
+                CHECK(uv_accessor.at("max").at(k).get<double>() <= 1.0);
             }
         }
     }
     // Closed-form spot checks: the floor's cut vertex and the lamp's centroid.
     const std::vector<float> floor_colors =
-        readAccessor<float>(glb, json["meshes"][0]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
+        readAccessor<float>(glb, json.at("meshes").at(0).at("primitives").at(0).at("attributes").at("_RADBAKE_LIGHT").get<size_t>(), 3);
     CHECK(floor_colors[3 * 2 + 0] == doctest::Approx(0.8));  // (0.1 + 1.5) / 2; third new vertex is m
     CHECK(floor_colors[3 * 2 + 2] == doctest::Approx(1.65));
     const std::vector<float> lamp_colors =
-        readAccessor<float>(glb, json["meshes"][1]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
+        readAccessor<float>(glb, json.at("meshes").at(1).at("primitives").at(0).at("attributes").at("_RADBAKE_LIGHT").get<size_t>(), 3);
     CHECK(lamp_colors[0] == doctest::Approx(10.0));
     CHECK(lamp_colors[1] == doctest::Approx(11.0));
     CHECK(lamp_colors[2] == doctest::Approx(12.0));
@@ -414,14 +414,14 @@ TEST_CASE("glb with lightmaps writes a mesh without charts as before, and refuse
     Diagnostics diagnostics;
     const Glb with = splitGlb(encodeGlb(scene, literalBake(), options, diagnostics));
     const Glb without = splitGlb(encodeGlb(scene, literalBake(), {}, diagnostics));
-    const minijson::Value& lamp = with.json["meshes"][1];
-    CHECK_FALSE(lamp.has("extras"));
-    REQUIRE(lamp["primitives"].size() == 1);
-    CHECK_FALSE(lamp["primitives"][0]["attributes"].has("TEXCOORD_1"));
-    CHECK(lamp["primitives"][0]["attributes"].size() == 4);
-    const std::vector<float> colors = readAccessor<float>(with, lamp["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
+    const nlohmann::json& lamp = with.json.at("meshes").at(1);
+    CHECK_FALSE(lamp.contains("extras"));
+    REQUIRE(lamp.at("primitives").size() == 1);
+    CHECK_FALSE(lamp.at("primitives").at(0).at("attributes").contains("TEXCOORD_1"));
+    CHECK(lamp.at("primitives").at(0).at("attributes").size() == 4);
+    const std::vector<float> colors = readAccessor<float>(with, lamp.at("primitives").at(0).at("attributes").at("_RADBAKE_LIGHT").get<size_t>(), 3);
     const std::vector<float> colors_before =
-        readAccessor<float>(without, without.json["meshes"][1]["primitives"][0]["attributes"]["_RADBAKE_LIGHT"].integer(), 3);
+        readAccessor<float>(without, without.json.at("meshes").at(1).at("primitives").at(0).at("attributes").at("_RADBAKE_LIGHT").get<size_t>(), 3);
     CHECK(colors == colors_before);
     CHECK(diagnostics.all().empty());
 

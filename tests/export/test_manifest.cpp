@@ -1,16 +1,17 @@
 // manifest.json parsed back: every file once, sorted, with its true size and SHA-256.
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "export/hash.h"
 #include "export/manifest.h"
 #include "export/output_transaction.h"
-#include "mini_json.h"
 #include "temp_files.h"
 
 using namespace radbake;
@@ -41,21 +42,43 @@ TEST_CASE("the manifest lists each output once, sorted, with its size and SHA-25
                           "radbake 9.9 \"test\"", diagnostics));
     CHECK(diagnostics.all().empty());
 
-    const minijson::Value manifest = minijson::parse(readBytes(manifest_path));
-    CHECK(manifest["generator"].str() == "radbake 9.9 \"test\"");
-    const minijson::Value& listed = manifest["files"];
+    const nlohmann::json manifest = nlohmann::json::parse(readBytes(manifest_path));
+    CHECK(manifest.at("generator").get<std::string>() == "radbake 9.9 \"test\"");
+    const nlohmann::json& listed = manifest.at("files");
     REQUIRE(listed.size() == 4);
     const char* const expected_order[] = {"lightmaps/room_0.exr", "lightmaps/room_1.exr", "room.glb", "stats.json"};
     for (size_t i = 0; i < 4; ++i) {
         CAPTURE(i);
-        const std::string path = listed[i]["path"].str();
+        const std::string path = listed.at(i).at("path").get<std::string>();
         CHECK(path == expected_order[i]);
-        CHECK(listed[i]["bytes"].integer() == files.at(path).size());
-        CHECK(listed[i]["sha256"].str() == sha256Hex(files.at(path)));
-        CHECK(listed[i].size() == 3);
+        CHECK(listed.at(i).at("bytes").get<size_t>() == files.at(path).size());
+        CHECK(listed.at(i).at("sha256").get<std::string>() == sha256Hex(files.at(path)));
+        CHECK(listed.at(i).size() == 3);
     }
-    CHECK(listed[1]["sha256"].str() == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-    CHECK(listed[3]["sha256"].str() == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    CHECK(listed.at(1).at("sha256").get<std::string>() == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    CHECK(listed.at(3).at("sha256").get<std::string>() == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+}
+
+TEST_CASE("the manifest leaves timings.json out, says so, and does not change with it") {
+    TempDir tmp;
+    Diagnostics diagnostics;
+    fs::create_directories(tmp.path / "sub");
+    REQUIRE(writeFileBytes(tmp.path / "stats.json", "{}", diagnostics));
+    REQUIRE(writeFileBytes(tmp.path / "timings.json", "{\"seconds\": 1}", diagnostics));
+    REQUIRE(writeFileBytes(tmp.path / "sub" / "timings.json", "not the bake's", diagnostics));
+    const std::vector<std::string> outputs = {"timings.json", "stats.json", "./timings.json", "sub/timings.json"};
+    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", diagnostics));
+    const std::string first = readBytes(tmp.path / "manifest.json");
+    const nlohmann::json manifest = nlohmann::json::parse(first);
+    CHECK(manifest.at("excluded") == nlohmann::json::array({"timings.json"}));
+    REQUIRE(manifest.at("files").size() == 2);  // only the top-level timings.json is the bake's
+    CHECK(manifest.at("files").at(0).at("path").get<std::string>() == "stats.json");
+    CHECK(manifest.at("files").at(1).at("path").get<std::string>() == "sub/timings.json");
+
+    REQUIRE(writeFileBytes(tmp.path / "timings.json", "{\"seconds\": 2.5}", diagnostics));
+    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", diagnostics));
+    CHECK(readBytes(tmp.path / "manifest.json") == first);
+    CHECK(diagnostics.all().empty());
 }
 
 TEST_CASE("a manifest of nothing is valid JSON, and a missing output is reported at its path") {
@@ -63,9 +86,9 @@ TEST_CASE("a manifest of nothing is valid JSON, and a missing output is reported
     Diagnostics diagnostics;
     const fs::path manifest_path = tmp.path / "manifest.json";
     REQUIRE(writeManifest(manifest_path, tmp.path, {}, "radbake", diagnostics));
-    const minijson::Value manifest = minijson::parse(readBytes(manifest_path));
-    CHECK(manifest["files"].size() == 0);
-    CHECK(manifest["files"].type == minijson::Value::Type::Array);
+    const nlohmann::json manifest = nlohmann::json::parse(readBytes(manifest_path));
+    CHECK(manifest.at("files").size() == 0);
+    CHECK(manifest.at("files").is_array());
 
     fs::remove(manifest_path);
     CHECK_FALSE(writeManifest(manifest_path, tmp.path, {"lightmaps/absent.exr"}, "radbake", diagnostics));
@@ -87,10 +110,10 @@ TEST_CASE("a manifest written through a transaction describes the committed file
                               "radbake", diagnostics));
         REQUIRE(transaction.commit(diagnostics));
     }
-    const minijson::Value manifest = minijson::parse(readBytes(out / "manifest.json"));
-    REQUIRE(manifest["files"].size() == 2);
+    const nlohmann::json manifest = nlohmann::json::parse(readBytes(out / "manifest.json"));
+    REQUIRE(manifest.at("files").size() == 2);
     for (size_t i = 0; i < 2; ++i) {
-        const std::string path = manifest["files"][i]["path"].str();
-        CHECK(manifest["files"][i]["sha256"].str() == sha256Hex(readBytes(out / path)));
+        const std::string path = manifest.at("files").at(i).at("path").get<std::string>();
+        CHECK(manifest.at("files").at(i).at("sha256").get<std::string>() == sha256Hex(readBytes(out / path)));
     }
 }

@@ -1,17 +1,23 @@
-// stats.json: every field the issue asks for, parsed back; phases run in rounds are summed.
+// stats.json and timings.json: every field parsed back, each in its own file; phases run in
+// rounds are summed.
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
 
 #include "export/stats_json.h"
-#include "mini_json.h"
 
 using namespace radbake;
 
-TEST_CASE("stats.json holds every figure and merges repeated phases") {
+namespace {
+
+BakeReport fullReport() {
     BakeReport report;
     report.generator = "radbake test";
     report.scene = "scenes/a \"quoted\" name.wrl";
     report.seconds = 1.5;
-    report.phases = {{"import", 0.25}, {"links", 0.5}, {"solve", 0.125}, {"links", 0.25}, {"write", 0.0625}};
+    report.phases = {{"import", 0.25}, {"links", 0.5}, {"solve", 0.125}, {"links", 0.25}, {"elements", 0.5}, {"write", 0.0625}};
     report.solve.elements = 11;
     report.solve.links = 22;
     report.solve.shafts = 33;
@@ -24,36 +30,66 @@ TEST_CASE("stats.json holds every figure and merges repeated phases") {
     report.threads = 2;
     report.peak_rss_mb = 12.5;
     report.vertices = 7;
-    const minijson::Value json = minijson::parse(formatStatsJson(report));
+    return report;
+}
 
-    CHECK(json["scene"].str() == report.scene);
-    CHECK(json["seconds"].num() == 1.5);
-    CHECK(json["phases"].size() == 4);
-    CHECK(json["phases"]["links"].num() == 0.75);
-    CHECK(json["phases"]["write"].num() == 0.0625);
-    CHECK(json["elements"].num() == 11);
-    CHECK(json["links"].num() == 22);
-    CHECK(json["shafts"].num() == 33);
-    CHECK(json["occluded_links"].num() == 4);
-    CHECK(json["rays"].num() == 55);
-    CHECK(json["iterations"].num() == 6);
-    CHECK(json["converged"].boolean);
-    CHECK(json["peak_rss_mb"].num() == 12.5);
-    CHECK(json["threads"].num() == 2);
-    CHECK(json["visibility"].str() == "obb");
-    CHECK(json["quality"].str() == "high");
-    CHECK(json["error_threshold"].num() == report.options.error_threshold);
-    CHECK(json["local_error_threshold"].num() == report.options.local_error_threshold);
-    CHECK(json["min_area"].num() == report.options.min_element_area);
-    CHECK(json["tolerance"].num() == report.options.iteration_tolerance);
-    CHECK(json["max_iterations"].num() == report.options.max_iterations);
-    CHECK(json["vertices"].num() == 7);
+}  // namespace
+
+TEST_CASE("stats.json holds every count and knob, and nothing that differs from run to run") {
+    const BakeReport report = fullReport();
+    const nlohmann::json json = nlohmann::json::parse(formatStatsJson(report));
+
+    CHECK(json.at("generator").get<std::string>() == "radbake test");
+    CHECK(json.at("scene").get<std::string>() == report.scene);
+    CHECK(json.at("elements").get<double>() == 11);
+    CHECK(json.at("links").get<double>() == 22);
+    CHECK(json.at("shafts").get<double>() == 33);
+    CHECK(json.at("occluded_links").get<double>() == 4);
+    CHECK(json.at("rays").get<double>() == 55);
+    CHECK(json.at("iterations").get<double>() == 6);
+    CHECK(json.at("converged").get<bool>());
+    CHECK(json.at("visibility").get<std::string>() == "obb");
+    CHECK(json.at("quality").get<std::string>() == "high");
+    CHECK(json.at("error_threshold").get<double>() == report.options.error_threshold);
+    CHECK(json.at("local_error_threshold").get<double>() == report.options.local_error_threshold);
+    CHECK(json.at("min_area").get<double>() == report.options.min_element_area);
+    CHECK(json.at("tolerance").get<double>() == report.options.iteration_tolerance);
+    CHECK(json.at("max_iterations").get<double>() == report.options.max_iterations);
+    CHECK(json.at("vertices").get<double>() == 7);
+    for (const char* key : {"seconds", "phases", "peak_rss_mb", "threads"}) CHECK_MESSAGE(!json.contains(key), key);
+
+    // The run's figures do not reach it: another run of the same bake gives the same bytes.
+    BakeReport other = report;
+    other.seconds = 99.0;
+    other.phases = {{"import", 3.0}};
+    other.threads = 7;
+    other.peak_rss_mb = 1000.0;
+    CHECK(formatStatsJson(other) == formatStatsJson(report));
+}
+
+TEST_CASE("timings.json holds the wall time, phases, peak memory and threads, and merges repeated phases") {
+    const BakeReport report = fullReport();
+    const nlohmann::json json = nlohmann::json::parse(formatTimingsJson(report));
+    CHECK(json.at("generator").get<std::string>() == "radbake test");
+    CHECK(json.at("scene").get<std::string>() == report.scene);
+    CHECK(json.at("seconds").get<double>() == 1.5);
+    REQUIRE(json.at("phases").size() == 5);
+    CHECK(json.at("phases").at("links").get<double>() == 0.75);
+    CHECK(json.at("phases").at("write").get<double>() == 0.0625);
+    // In the order the phases first ran (not sorted).
+    const nlohmann::ordered_json in_order = nlohmann::ordered_json::parse(formatTimingsJson(report));
+    std::vector<std::string> order;
+    for (const auto& phase : in_order.at("phases").items()) order.push_back(phase.key());
+    CHECK(order == std::vector<std::string>{"import", "links", "solve", "elements", "write"});
+    CHECK(json.at("peak_rss_mb").get<double>() == 12.5);
+    CHECK(json.at("threads").get<double>() == 2);
+    CHECK(json.size() == 6);
 }
 
 TEST_CASE("stats.json reports the lightmap stage only when it ran") {
     BakeReport report;
-    CHECK_FALSE(minijson::parse(formatStatsJson(report))["lightmaps"].boolean);
-    CHECK_FALSE(minijson::parse(formatStatsJson(report)).has("occupancy"));
+    CHECK_FALSE(nlohmann::json::parse(formatStatsJson(report)).at("lightmaps").get<bool>());
+    CHECK_FALSE(nlohmann::json::parse(formatStatsJson(report)).contains("occupancy"));
     report.lightmaps.baked = true;
     report.lightmaps.texels_per_unit = 16.0;
     report.lightmaps.atlas_size = 1024;
@@ -65,16 +101,16 @@ TEST_CASE("stats.json reports the lightmap stage only when it ran") {
     report.lightmaps.occupancy = 0.25;
     report.lightmaps.interpolated_texels = 1000;
     report.lightmaps.texel_tolerance = 0.02;
-    const minijson::Value json = minijson::parse(formatStatsJson(report));
-    CHECK(json["lightmaps"].boolean);
-    CHECK(json["texel_density"].num() == 16.0);
-    CHECK(json["atlas_size"].num() == 1024);
-    CHECK(json["padding"].num() == 2);
-    CHECK(json["charts"].num() == 17);
-    CHECK(json["atlases"].num() == 2);
-    CHECK(json["atlas_texels"].num() == 5000);
-    CHECK(json["covered_texels"].num() == 1234);
-    CHECK(json["occupancy"].num() == 0.25);
-    CHECK(json["interpolated_texels"].num() == 1000);
-    CHECK(json["texel_tolerance"].num() == 0.02);
+    const nlohmann::json json = nlohmann::json::parse(formatStatsJson(report));
+    CHECK(json.at("lightmaps").get<bool>());
+    CHECK(json.at("texel_density").get<double>() == 16.0);
+    CHECK(json.at("atlas_size").get<double>() == 1024);
+    CHECK(json.at("padding").get<double>() == 2);
+    CHECK(json.at("charts").get<double>() == 17);
+    CHECK(json.at("atlases").get<double>() == 2);
+    CHECK(json.at("atlas_texels").get<double>() == 5000);
+    CHECK(json.at("covered_texels").get<double>() == 1234);
+    CHECK(json.at("occupancy").get<double>() == 0.25);
+    CHECK(json.at("interpolated_texels").get<double>() == 1000);
+    CHECK(json.at("texel_tolerance").get<double>() == 0.02);
 }
