@@ -2,8 +2,9 @@
 #include <cstdio>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
-#include "core/json.h"
 #include "io/import.h"
 
 namespace radbake::cli {
@@ -23,13 +24,22 @@ int runInfo(const InfoArgs& args) {
 
     const SceneSummary s = summarize(*scene);
     if (args.json) {
-        std::printf(
-            "{\"name\": %s, \"triangles\": %zu, \"polygons\": %zu, \"meshes\": %zu, \"area\": %.9g, "
-            "\"bounds\": {\"min\": [%.9g, %.9g, %.9g], \"max\": [%.9g, %.9g, %.9g]}, "
-            "\"materials\": %zu, \"emitters\": %zu, \"lights\": %zu, \"cameras\": %zu, \"warnings\": %d}\n",
-            jsonString(scene->name).c_str(), s.triangles, s.polygons, scene->meshes.size(), s.area, s.bounds_min.x,
-            s.bounds_min.y, s.bounds_min.z, s.bounds_max.x, s.bounds_max.y, s.bounds_max.z, s.materials,
-            s.emitters, s.lights, scene->cameras.size(), diagnostics.warningCount());
+        nlohmann::ordered_json info;
+        info["name"] = scene->name;
+        info["triangles"] = s.triangles;
+        info["polygons"] = s.polygons;
+        info["meshes"] = scene->meshes.size();
+        info["area"] = s.area;
+        info["bounds"]["min"] = {s.bounds_min.x, s.bounds_min.y, s.bounds_min.z};
+        info["bounds"]["max"] = {s.bounds_max.x, s.bounds_max.y, s.bounds_max.z};
+        info["materials"] = s.materials;
+        info["emitters"] = s.emitters;
+        info["lights"] = s.lights;
+        info["cameras"] = scene->cameras.size();
+        info["input_files"] = scene->input_files;
+        info["warnings"] = diagnostics.warningCount();
+        // One line; a file name in another encoding becomes U+FFFD, never an exception.
+        std::printf("%s\n", info.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
     } else {
         std::printf("scene      %s\n", args.scene.c_str());
         std::printf("meshes     %zu\n", scene->meshes.size());

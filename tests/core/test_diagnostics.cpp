@@ -1,7 +1,6 @@
 #include <doctest/doctest.h>
 
 #include "core/diagnostics.h"
-#include "core/json.h"
 
 using namespace radbake;
 
@@ -20,7 +19,3 @@ TEST_CASE("diagnostics format as file:line:col: severity: message") {
     CHECK(printed[2] == "warning: no place");
 }
 
-TEST_CASE("jsonString escapes quotes, backslashes and control characters") {
-    CHECK(jsonString("plain") == "\"plain\"");
-    CHECK(jsonString("a\"b\\c\n\x01") == "\"a\\\"b\\\\c\\n\\u0001\"");
-}
