@@ -43,11 +43,11 @@ struct Block {
 struct State {
     const LightmapLayout& layout;
     const IrradianceFunction& irradiance;
-    std::vector<ChartSpan> spans;
-    std::vector<Site> sites;
-    std::vector<DVec3> values;  // H / pi
-    std::vector<Fill> fill;
-    std::vector<uint8_t> requested;
+    std::vector<ChartSpan> spans{};
+    std::vector<Site> sites{};
+    std::vector<DVec3> values{};  // H / pi
+    std::vector<Fill> fill{};
+    std::vector<uint8_t> requested{};
     size_t evaluations = 0;
 
     size_t at(const Block& b, int i, int j) const { return spans[b.chart].offset + static_cast<size_t>(j) * spans[b.chart].width + i; }
@@ -179,7 +179,7 @@ void interpolateOwned(State& s, const Block& b) {
 
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner) {
-    State s{layout, irradiance, {}, {}, {}, {}, {}, 0};
+    State s{.layout = layout, .irradiance = irradiance};
     size_t total = 0;
     for (const LightmapChart& chart : layout.charts) {
         s.spans.push_back(ChartSpan{total, chart.atlas < 0 ? 0 : chart.width, chart.atlas < 0 ? 0 : chart.height});

@@ -202,7 +202,13 @@ bool closedOccludes(std::span<const DVec3> source, std::span<const DVec3> receiv
         // Some segment [s_i, r_j] lies wholly outside (or on) face f: it misses the part.
         if (s_max > -margin && r_max > -margin) return false;
     }
-    ClosedContext ctx{source, receiver, faces, &fs, &fr, margin, rounding};
+    ClosedContext ctx{.source = source,
+                      .receiver = receiver,
+                      .faces = faces,
+                      .fs = &fs,
+                      .fr = &fr,
+                      .margin = margin,
+                      .rounding = rounding};
 
     const DVec3 link = vertexMean(receiver) - vertexMean(source);
     std::array<DVec3, kMaxDirections> tried;

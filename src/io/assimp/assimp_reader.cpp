@@ -257,7 +257,7 @@ struct Converter {
     Scene& scene;
     Diagnostics& diagnostics;
     uint32_t material_offset = 0;
-    PrimitiveCounts dropped;
+    PrimitiveCounts dropped{};
 
     void visit(const aiNode& node, const Mat4& world_from_parent) {
         const Mat4 world_from_node = world_from_parent * toMat4(node.mTransformation);
@@ -404,7 +404,7 @@ bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostic
         return false;
     }
     if (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) diagnostics.warning({path, 0, 0}, "Assimp: the scene is incomplete");
-    Converter converter{*ai, path, scene, diagnostics, 0, {}};
+    Converter converter{.ai = *ai, .path = path, .scene = scene, .diagnostics = diagnostics};
     converter.run();
     return true;
 }
