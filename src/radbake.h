@@ -40,14 +40,15 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
                                        ParallelRunner& runner, Progress& progress, Diagnostics& diagnostics);
 
 // 4. H / pi at every vertex of every mesh.
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner);
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner,
+                        Progress* progress /* = nullptr */);
 
 // 5. Lightmaps: charts (within the texel budget, before the solve), then packing, texels,
 //    dilation and seams.
 std::optional<LightmapCharts> chartLightmapsWithinBudget(const Scene& scene, LightmapOptions options,
                                                          const LightmapBudget& budget, Diagnostics& diagnostics);
 bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
-                   Lightmaps& lightmaps, Diagnostics& diagnostics);
+                   Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress /* = nullptr */);
 
 // All of the above (plus probes and previews), in memory.
 Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);

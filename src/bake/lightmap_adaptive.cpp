@@ -2,6 +2,7 @@
 #include "bake/lightmap_adaptive.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 
@@ -49,6 +50,16 @@ struct State {
     std::vector<Fill> fill{};
     std::vector<uint8_t> requested{};
     size_t evaluations = 0;
+    // Progress: the texel phase moves progress from 0 to kTexelShare of the lightmap phase,
+    // by texels settled (evaluated, or inside a block accepted for interpolation) over covered.
+    Progress* progress = nullptr;
+    size_t covered = 0;
+    std::atomic<size_t> settled{0};
+
+    void reportProgress() const {
+        if (progress && covered > 0)
+            progress->update(kTexelShare * std::min(1.0, static_cast<double>(settled) / static_cast<double>(covered)));
+    }
 
     size_t at(const Block& b, int i, int j) const { return spans[b.chart].offset + static_cast<size_t>(j) * spans[b.chart].width + i; }
 };
@@ -74,6 +85,8 @@ void evaluateBatch(State& s, std::vector<size_t>& batch, ParallelRunner& runner)
             s.values[t] = s.irradiance(face.worldPoint(s.sites[t].p_plane), face.normal_world) / kPi;
             s.fill[t] = kEvaluated;
         }
+        s.settled += end - begin;
+        s.reportProgress();
     });
     s.evaluations += batch.size();
     batch.clear();
@@ -178,8 +191,9 @@ void interpolateOwned(State& s, const Block& b) {
 }  // namespace
 
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
-                                      const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner) {
-    State s{.layout = layout, .irradiance = irradiance};
+                                      const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
+                                      Progress* progress) {
+    State s{.layout = layout, .irradiance = irradiance, .progress = progress};
     size_t total = 0;
     for (const LightmapChart& chart : layout.charts) {
         s.spans.push_back(ChartSpan{total, chart.atlas < 0 ? 0 : chart.width, chart.atlas < 0 ? 0 : chart.height});
@@ -205,6 +219,7 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
             }
         });
     }
+    for (const Site& site : s.sites) s.covered += site.cover != kEmpty ? 1 : 0;
     std::vector<size_t> batch;
     std::vector<Block> blocks;
     size_t required = 0;
@@ -263,8 +278,13 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
         for (size_t k = 0; k < blocks.size(); ++k) {
             const Block& b = blocks[k];
             if (leaf(b)) continue;
-            if (candidate[k] && smooth(s, b, tolerance, floor)) accepted.push_back(b);
-            else split(b, next);
+            if (candidate[k] && smooth(s, b, tolerance, floor)) {
+                accepted.push_back(b);
+                // Its texels but the (already counted) corners and test points are settled now.
+                s.settled += static_cast<size_t>(std::max(0, (b.i1 - b.i0 + 1) * (b.j1 - b.j0 + 1) - 9));
+            } else {
+                split(b, next);
+            }
         }
         blocks = std::move(next);
     }

@@ -15,6 +15,7 @@
 
 #include "bake/lightmap_bake.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 
 namespace radbake {
 
@@ -38,7 +39,10 @@ struct AdaptiveCounts {
 // evaluateLightmaps always did. Decisions depend only on evaluated values and run level by
 // level; each evaluation writes its own slot: the result does not depend on the runner's
 // thread count. A cancelled runner leaves texels unevaluated (the caller discards them).
+// `progress`, when given, moves from 0 to kTexelShare as texels are evaluated.
+inline constexpr double kTexelShare = 0.9;
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
-                                      const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner);
+                                      const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
+                                      Progress* progress = nullptr);
 
 }  // namespace radbake

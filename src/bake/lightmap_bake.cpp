@@ -61,7 +61,7 @@ double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, s
 }
 
 Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
-                            ParallelRunner& runner, double texel_tolerance) {
+                            ParallelRunner& runner, double texel_tolerance, Progress* progress) {
     Lightmaps lightmaps;
     lightmaps.layout = std::move(layout);
     for (const LightmapAtlas& atlas : lightmaps.layout.atlases) {
@@ -73,7 +73,7 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
         lightmaps.images.push_back(std::move(image));
     }
     const AdaptiveCounts counts =
-        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner);
+        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner, progress);
     lightmaps.covered_texels = counts.covered;
     lightmaps.evaluated_texels = counts.evaluated;
     lightmaps.interpolated_texels = counts.interpolated;
@@ -134,16 +134,19 @@ LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options
 }
 
 bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
-                   Lightmaps& lightmaps, Diagnostics& diagnostics) {
+                   Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress) {
     const LightmapOptions& options = charts.options;
     LightmapLayout layout;
     if (!packLightmapCharts(std::move(charts.charts), options, layout, diagnostics)) return false;
     const IrradianceFunction irradiance = [&solution](const DVec3& p, const DVec3& n) {
         return probeIrradiance(solution, p, n);
     };
-    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance);
+    lightmaps =
+        evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance, progress);
     if (runner.cancelled()) return false;
+    if (progress) progress->update(kTexelShare);
     if (options.stitch_seams) stitchLightmaps(scene, lightmaps, irradiance, options.padding, runner, options.texel_tolerance);
+    if (progress) progress->update(1.0);
     return !runner.cancelled();
 }
 

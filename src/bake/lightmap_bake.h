@@ -11,6 +11,7 @@
 #include "core/diagnostics.h"
 #include "core/math.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 
 namespace radbake {
 
@@ -64,7 +65,7 @@ double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, s
 // interpolated from evaluated ones within that relative tolerance (lightmap_adaptive.h).
 // Each texel writes its own slot, so the images do not depend on the thread count.
 Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
-                            ParallelRunner& runner, double texel_tolerance = 0.0);
+                            ParallelRunner& runner, double texel_tolerance = 0.0, Progress* progress = nullptr);
 
 // Fills Empty texels inside each chart's padded rectangle from their filled 8-neighbours
 // (the average of those filled in the previous pass), pass after pass until the rectangle
@@ -83,7 +84,8 @@ LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options
 // The whole lightmap stage: packing, texels, dilation, then (options.stitch_seams) the
 // padding ring fitted to the chart edges and seams (lightmap_seams.h). False after reporting,
 // or with nothing reported when the runner was cancelled.
+// `progress`, when given, moves through the phase (texels, then the seams).
 bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
-                   Lightmaps& lightmaps, Diagnostics& diagnostics);
+                   Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress = nullptr);
 
 }  // namespace radbake

@@ -3,6 +3,7 @@
 #include "bake/vertex_bake.h"
 
 #include <algorithm>
+#include <atomic>
 #include <map>
 
 
@@ -40,9 +41,12 @@ DVec3 bakeVertex(const Solution& solution, const DVec3& p, const std::vector<Inc
 
 }  // namespace
 
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner) {
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner, Progress* progress) {
     VertexBake bake;
     bake.values.resize(scene.meshes.size());
+    size_t total = 0;
+    for (const Mesh& mesh : scene.meshes) total += mesh.positions.size();
+    std::atomic<size_t> done{0};
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         std::vector<std::vector<Incident>> incident(mesh.positions.size());
@@ -63,6 +67,7 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRu
                 const DVec3 h = bakeVertex(solution, DVec3(mesh.positions[v]), incident[v]);
                 values[v] = Vec3(h / kPi);
             }
+            if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(total));
         });
     }
     return bake;

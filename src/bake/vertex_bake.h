@@ -4,6 +4,7 @@
 
 #include "core/math.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 
 namespace radbake {
 
@@ -18,6 +19,8 @@ struct VertexBake {
 
 // On the runner's threads; each vertex writes its own slot, so the values do not depend on
 // the thread count. A cancelled runner leaves vertices unevaluated (discard the bake).
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner);
+// `progress`, when given, moves with the vertices done.
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner,
+                        Progress* progress = nullptr);
 
 }  // namespace radbake

@@ -164,14 +164,15 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     out.report.solve = out.solution->stats;
 
     progress.beginPhase("vertices");
-    out.vertices = bakeVertices(scene, *out.solution, runner);
+    out.vertices = bakeVertices(scene, *out.solution, runner, &progress);
     if (stopped()) return;
 
     if (charts) {
         progress.beginPhase("lightmaps");
         const LightmapOptions used = charts->options;
         BakedLightmaps baked;
-        if (!bakeLightmaps(scene, *out.solution, std::move(*charts), runner, baked.lightmaps, diagnostics) || stopped()) {
+        if (!bakeLightmaps(scene, *out.solution, std::move(*charts), runner, baked.lightmaps, diagnostics, &progress) ||
+            stopped()) {
             if (!stopped()) out.status = BakeStatus::InputError;
             return;
         }

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "radbake.h"
@@ -281,3 +282,22 @@ TEST_CASE("at a default density a million times too fine, the budget applies bef
     REQUIRE(given_diagnostics.hasErrors());
     CHECK(given_diagnostics.all().back().message.find("give a density of about") != std::string::npos);
 }
+
+// radbake.h redeclares every stage; a redeclaration that drifted from its stage header would
+// be a second overload, which decltype of the name (and every call) rejects.
+static_assert(std::is_same_v<decltype(&importScene),
+                             std::optional<Scene> (*)(const std::string&, const ImportOptions&, Diagnostics&)>);
+static_assert(std::is_same_v<decltype(&buildParts), PartSet (*)(const Scene&, const PartOptions&, Diagnostics&)>);
+static_assert(std::is_same_v<decltype(&solveRadiosity),
+                             std::optional<Solution> (*)(const Scene&, const PartSet&, const SolverOptions&,
+                                                         ParallelRunner&, Progress&, Diagnostics&)>);
+static_assert(std::is_same_v<decltype(&bakeVertices),
+                             VertexBake (*)(const Scene&, const Solution&, ParallelRunner&, Progress*)>);
+static_assert(std::is_same_v<decltype(&chartLightmapsWithinBudget),
+                             std::optional<LightmapCharts> (*)(const Scene&, LightmapOptions, const LightmapBudget&,
+                                                               Diagnostics&)>);
+static_assert(std::is_same_v<decltype(&bakeLightmaps),
+                             bool (*)(const Scene&, const Solution&, LightmapCharts, ParallelRunner&, Lightmaps&,
+                                      Diagnostics&, Progress*)>);
+static_assert(std::is_same_v<decltype(&writeBake),
+                             bool (*)(const Bake&, const std::filesystem::path&, Diagnostics&, WrittenBake*)>);
