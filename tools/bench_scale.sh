@@ -18,7 +18,8 @@
 # --timeout: seconds per scene (default 600); --mem-gb: address-space cap per scene (prlimit --as;
 # default the smaller of 20 GB and 3/4 of the machine's memory). A scene that runs out of time
 # or memory is a row with status `timeout` or `out of memory`, not a failure of the script; rss_mb
-# is then the peak when it was stopped (GNU time). Exit status 0 unless the script itself fails.
+# is then the peak when it was stopped, and the status gives the wall time until then (GNU time).
+# Exit status 0 unless the script itself fails.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(cd "$here/.." && pwd)"
@@ -115,6 +116,7 @@ for name in "${names[@]}"; do
     else
       status="failed (exit $rc: $(grep -v '^$' "$log.err" | tail -1 | cut -c1-80))"
     fi
+    [ -n "$wall" ] && status="$status after ${wall} s"
     rows+=("$name|$triangles|-|-|$rss|$status")
   fi
   echo "bench_scale: $name done (exit $rc, ${wall:-?} s wall, load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
