@@ -1,5 +1,6 @@
 // `radbake info SCENE`: what was read, as text or JSON.
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -24,14 +25,20 @@ int runInfo(const InfoArgs& args) {
 
     const SceneSummary s = summarize(*scene);
     if (args.json) {
+        // Nine significant digits, as before: enough for a float, without its binary tail.
+        const auto nine = [](double value) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.9g", value);
+            return std::strtod(text, nullptr);
+        };
         nlohmann::ordered_json info;
         info["name"] = scene->name;
         info["triangles"] = s.triangles;
         info["polygons"] = s.polygons;
         info["meshes"] = scene->meshes.size();
-        info["area"] = s.area;
-        info["bounds"]["min"] = {s.bounds_min.x, s.bounds_min.y, s.bounds_min.z};
-        info["bounds"]["max"] = {s.bounds_max.x, s.bounds_max.y, s.bounds_max.z};
+        info["area"] = nine(s.area);
+        info["bounds"]["min"] = {nine(s.bounds_min.x), nine(s.bounds_min.y), nine(s.bounds_min.z)};
+        info["bounds"]["max"] = {nine(s.bounds_max.x), nine(s.bounds_max.y), nine(s.bounds_max.z)};
         info["materials"] = s.materials;
         info["emitters"] = s.emitters;
         info["lights"] = s.lights;
