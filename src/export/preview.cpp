@@ -9,10 +9,6 @@
 #include <memory>
 #include <optional>
 
-#include <tbb/blocked_range.h>
-#include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "export/output_transaction.h"
 #include "visibility/ray_caster.h"
@@ -283,13 +279,6 @@ struct Shader {
     }
 };
 
-// The thread limit the caller set (tbb::global_control or an enclosing arena), for Embree's build.
-int callerThreads() {
-    const size_t global = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
-    const int arena = tbb::this_task_arena::max_concurrency();
-    return std::max(1, static_cast<int>(std::min<size_t>(global, static_cast<size_t>(std::max(arena, 1)))));
-}
-
 // Fewer than this many pixels a side, or more than this many in all, is a caller's mistake.
 constexpr long long kMaxPixels = 1LL << 28;
 
@@ -297,8 +286,10 @@ constexpr long long kMaxPixels = 1LL << 28;
 
 RgbImage renderBakedView(const Scene& scene, const VertexBake& bake, const Lightmaps* lightmaps,
                          const std::vector<LightmapMesh>* lightmap_meshes, const Camera* camera, int width,
-                         int height, Diagnostics& diagnostics) {
+                         int height, Diagnostics& diagnostics, ParallelRunner* runner) {
     const SourceLocation where{scene.source_path, 0, 0};
+    std::unique_ptr<ParallelRunner> own_runner;
+    if (!runner) runner = (own_runner = std::make_unique<ParallelRunner>(Threading{})).get();
     RgbImage image;
     if (width <= 0 || height <= 0 || static_cast<long long>(width) * height > kMaxPixels) {
         diagnostics.error(where, "preview: bad image size " + std::to_string(width) + " x " + std::to_string(height));
@@ -318,7 +309,7 @@ RgbImage renderBakedView(const Scene& scene, const VertexBake& bake, const Light
 
         // The scene's own caster already warned about unusable triangles; only errors matter here.
         Diagnostics build_diagnostics;
-        const std::unique_ptr<RayCaster> caster = RayCaster::build(setup.traced, build_diagnostics, callerThreads());
+        const std::unique_ptr<RayCaster> caster = RayCaster::build(setup.traced, build_diagnostics, runner->threads());
         for (const Diagnostic& d : build_diagnostics.all())
             if (d.severity == Severity::Error) diagnostics.error(d.location, "preview: " + d.message);
         if (!caster) return image;
@@ -328,8 +319,8 @@ RgbImage renderBakedView(const Scene& scene, const VertexBake& bake, const Light
         const Shader shader{scene, bake, use_lightmaps ? lightmaps : nullptr, lightmap_meshes, setup};
         const double t_max = std::numeric_limits<double>::infinity();
         // Each pixel writes its own slot: the image does not depend on the thread count.
-        tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
-            for (int y = rows.begin(); y < rows.end(); ++y)
+        runner->forRanges(static_cast<size_t>(height), 1, [&](size_t row_begin, size_t row_end) {
+            for (int y = static_cast<int>(row_begin); y < static_cast<int>(row_end); ++y)
                 for (int x = 0; x < width; ++x) {
                     const std::optional<RayHit> hit = caster->closestHit(rays.position, rays.direction(x, y), t_max);
                     if (!hit) continue;

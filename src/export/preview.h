@@ -11,6 +11,7 @@
 #include "bake/lightmap_mesh.h"
 #include "bake/vertex_bake.h"
 #include "core/diagnostics.h"
+#include "core/parallel.h"
 #include "export/exr_io.h"
 #include "scene/scene.h"
 
@@ -49,9 +50,11 @@ inline constexpr double kPreviewKey = 0.2752833;
 // black. Back faces show their front's light (the same radiance), since the bake is one-sided
 // and a closed room seen from outside should still show its light. Linear RGB, row 0 at the
 // top. Rows are rendered in parallel under the caller's TBB thread limit.
+// On the runner's threads (none given: all cores); each pixel writes its own slot, so the
+// image does not depend on the thread count.
 RgbImage renderBakedView(const Scene& scene, const VertexBake& bake, const Lightmaps* lightmaps,
                          const std::vector<LightmapMesh>* lightmap_meshes, const Camera* camera, int width,
-                         int height, Diagnostics& diagnostics);
+                         int height, Diagnostics& diagnostics, ParallelRunner* runner = nullptr);
 
 // The camera renderBakedView uses when given none (exposed for tests).
 Camera defaultPreviewCamera(const Scene& scene);

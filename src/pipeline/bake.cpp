@@ -62,13 +62,13 @@ std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Pr
     return irradiance;
 }
 
-void renderPreviews(Bake& out, Diagnostics& diagnostics) {
+void renderPreviews(Bake& out, ParallelRunner& runner, Diagnostics& diagnostics) {
     const Scene& scene = *out.scene;
     const Camera* camera = scene.cameras.empty() ? nullptr : &scene.cameras.front();
     const BakedLightmaps* baked = out.lightmaps ? &*out.lightmaps : nullptr;
     RgbImage view = renderBakedView(scene, out.vertices, baked ? &baked->lightmaps : nullptr,
                                     baked ? &baked->files.meshes : nullptr, camera, kPreviewWidth, kPreviewHeight,
-                                    diagnostics);
+                                    diagnostics, &runner);
     const double view_exposure = autoExposure(view);
     out.previews.push_back({"preview/" + scene.name + "_view.png", std::move(view), view_exposure});
     if (!baked) return;
@@ -190,7 +190,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     }
     if (options.preview) {
         progress.beginPhase("preview");
-        renderPreviews(out, diagnostics);
+        renderPreviews(out, runner, diagnostics);
         if (stopped()) return;
     }
     progress.endPhase();

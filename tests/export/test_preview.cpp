@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include <tbb/global_control.h>
 
 #include "bake/lightmap_bake.h"
 #include "bake/lightmap_mesh.h"
@@ -417,12 +416,12 @@ TEST_CASE("renderBakedView does not depend on the thread count") {
     Diagnostics diagnostics;
     RgbImage one, two;
     {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-        one = renderBakedView(scene, bake, nullptr, nullptr, nullptr, 50, 37, diagnostics);
+        ParallelRunner runner(Threading{.threads = 1});
+        one = renderBakedView(scene, bake, nullptr, nullptr, nullptr, 50, 37, diagnostics, &runner);
     }
     {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-        two = renderBakedView(scene, bake, nullptr, nullptr, nullptr, 50, 37, diagnostics);
+        ParallelRunner runner(Threading{.threads = 2});
+        two = renderBakedView(scene, bake, nullptr, nullptr, nullptr, 50, 37, diagnostics, &runner);
     }
     CHECK(one.rgb == two.rgb);
     CHECK(encodePreviewPng(one, autoExposure(one)) == encodePreviewPng(two, autoExposure(two)));
