@@ -64,6 +64,9 @@ struct SolverOptions {
                                            // radius / distance, so a sliver of light is not lost between rays
     bool pin_threads = true;           // pin the solver's workers to cores
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
+    // Links start between clusters of roots (cluster.h) instead of between every pair of
+    // roots: linking in O(n log n) instead of O(n^2). Off: every facing pair of roots.
+    bool clustering = true;
     double local_error_threshold = 0.1;   // fraction of its own irradiance a link may vary over a
                                           // receiver (above; 0: off; needs refine_rounds >= 2)
 
@@ -75,7 +78,7 @@ const char* toString(Quality quality);
 
 struct SolveStats {
     size_t elements = 0;
-    size_t links = 0;
+    size_t links = 0;                 // element links + cluster links
     size_t shafts = 0;
     size_t occluded_links = 0;
     size_t rays = 0;
@@ -87,6 +90,9 @@ struct SolveStats {
     size_t partial_links = 0;         // final links found partly hidden (visibility < 1)
     int rounds = 0;
     double residual = 0.0;            // final relative residual
+    size_t element_links = 0;         // Solution::links (between elements)
+    size_t cluster_links = 0;         // Solution::cluster_links (a cluster at one end at least)
+    size_t clusters = 0;
 };
 
 struct Solution;  // defined in radiosity/solution.h
