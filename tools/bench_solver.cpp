@@ -100,7 +100,8 @@ int main(int argc, char** argv) {
                         options.threads, seconds[seconds.size() / 2], stats.elements, stats.leaves, stats.links,
                         stats.shafts, stats.occluded_links, stats.rays, stats.iterations, peakRssMb());
             for (double s : seconds) std::printf(" %.3f", s);
-            std::printf(")\n");
+            std::printf("; cluster links %zu, element links %zu, clusters %zu)\n", stats.cluster_links,
+                        stats.element_links, stats.clusters);
             std::fflush(stdout);
         }
     }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <optional>
@@ -42,6 +43,7 @@ struct BakeArgs {
     ImportOptions import;
     bool quiet = false;
     bool preview = false;
+    bool no_clustering = false;
     LightmapArgs lightmaps;
     // Raw knobs; applied over the preset only when given on the command line.
     double error_threshold = 0.0;
@@ -91,6 +93,7 @@ SolverOptions solverOptions(const BakeArgs& args) {
     if (args.min_area_option->count()) options.min_element_area = args.min_area;
     if (args.tolerance_option->count()) options.iteration_tolerance = args.tolerance;
     if (args.max_iterations_option->count()) options.max_iterations = args.max_iterations;
+    options.clustering = !args.no_clustering;
     return options;
 }
 
@@ -135,6 +138,8 @@ std::vector<std::pair<std::string, std::string>> provenance(const BakeArgs& args
                   options.local_error_threshold, options.min_element_area, options.iteration_tolerance, options.max_iterations,
                   static_cast<double>(args.import.unit_scale), static_cast<double>(args.import.emission_scale),
                   texel_density, lightmaps.atlas_size, lightmaps.padding, lightmaps.texel_tolerance);
+    // Named only when off, so default bakes keep their provenance string.
+    if (!options.clustering) std::strncat(knobs, " clustering=off", sizeof knobs - std::strlen(knobs) - 1);
     return {{"radbake:version", kGenerator},
             {"radbake:scene", std::filesystem::path(args.scene).filename().string()},
             {"radbake:scene_sha256", scene_sha256},
@@ -354,6 +359,9 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
             ->check(CLI::PositiveNumber);
 
+    cmd->add_flag("--no-clustering", args->no_clustering,
+                  "Link every facing pair of polygons instead of starting links between clusters of them "
+                  "(quadratic in the polygon count: for comparisons)");
     cmd->add_flag("--no-lightmaps", args->lightmaps.skip, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
     cmd->add_option("--texel-density", args->lightmaps.texel_density, "Lightmap texels per scene unit")
         ->check(CLI::PositiveNumber)

@@ -116,7 +116,7 @@ bool boxBehind(const Solution& s, const Element& root, const Aabb& box) {
 // The kernel of a member pair: irradiance at root j per unit radiosity of root i, the exact
 // point-to-polygon form factor from j's centroid to polygon i (a point kernel
 // A_i cos_i cos_j / (pi d^2) overestimates near pairs, and in a closed room those errors
-// all have one sign), averaged over 2 x 2 points of j when j is near (within 6 times the
+// all have one sign), averaged over 2 x 2 points of j when j is near (within 4 times the
 // pair's radii). 0 when either faces away.
 double pairKernel(const Solution& s, const Element& i, const Element& j) {
     const DVec3 u = j.centroid - i.centroid;
@@ -124,7 +124,7 @@ double pairKernel(const Solution& s, const Element& i, const Element& j) {
     if (!(d2 > 0.0)) return 0.0;
     const PolygonView source = polygonOf(s, i);
     if (!facing(polygonOf(s, j), source)) return 0.0;
-    const double reach = 6.0 * (i.radius + j.radius);
+    const double reach = 4.0 * (i.radius + j.radius);
     if (d2 > reach * reach) return pointPolygonFormFactor(j.centroid, j.normal, source.vertices, i.normal);
     const auto points = stratifiedPolygonPoints(polygonOf(s, j).vertices, 2);
     double sum = 0.0;
@@ -176,14 +176,20 @@ struct ClusterEvaluation {
     size_t rays = 0;
 };
 
+// A cluster link whose candidate list is longer than this skips OBB culling and the occlusion test.
+constexpr size_t kCullOnlyListSize = 64;
+
 // Pairs a separable link's kernel is calibrated on.
-constexpr size_t kCalibrationPairs = 32;
+constexpr size_t kCalibrationPairs = 16;
 
 // Visibility samples of a member: the 2 x 2 stratified points visibleFraction uses.
 constexpr int kMemberSamples = 2;
 constexpr int kPointsPerMember = kMemberSamples * kMemberSamples;
-constexpr int kRaysPerPair = 2;
-constexpr int kRaysPerMember = 4;  // separable links: each member casts this many, to spread partners
+constexpr int kRaysPerPair = 1;
+constexpr int kRaysPerMember = 3;  // separable links: each member casts this many, to spread partners
+// Points this close to a plane (fraction of the scene's extent) lie in it: above float
+// rounding of coordinates (1e-7), below any gap a lighting result can see.
+constexpr double kCoplanarTolerance = 1e-6;
 
 }  // namespace
 
@@ -293,6 +299,38 @@ ClusterRefiner::ClusterRefiner(RefineState& state) : state_(state) {
         cluster_rho_[c] = rho;
         cluster_radius_[c] = radius;
     }
+    // Flat clusters: every member in one plane. A segment from a point of that plane to a
+    // point off it leaves the plane at once, so no part lying in the plane can block it: such
+    // parts (the members themselves) are dropped from the cluster's shafts, or every shaft of
+    // a wall's cluster would be partial and need rays.
+    const double tolerance = kCoplanarTolerance * s.scene_extent;
+    auto same_plane = [&](const Plane& a, const Plane& b) {
+        return std::abs(glm::dot(a.normal, b.normal)) > 1.0 - 1e-9 &&
+               std::abs(std::abs(a.offset) - std::abs(b.offset)) <= tolerance &&
+               (glm::dot(a.normal, b.normal) > 0.0 ? std::abs(a.offset - b.offset) : std::abs(a.offset + b.offset)) <=
+                   tolerance;
+    };
+    cluster_flat_.assign(s.clusters.size(), 0);
+    cluster_plane_.assign(s.clusters.size(), Plane{});
+    for (size_t c = s.clusters.size(); c-- > 0;) {
+        const Cluster& cluster = s.clusters[c];
+        if (cluster.isLeaf()) {
+            const Element& first = s.elements[s.cluster_members[cluster.first_member]];
+            const Plane plane{first.normal, -glm::dot(first.normal, s.vertices[first.first_vertex])};
+            bool flat = true;
+            for (uint32_t k = cluster.first_member; k < cluster.first_member + cluster.member_count && flat; ++k) {
+                const Element& e = s.elements[s.cluster_members[k]];
+                for (uint32_t v = 0; v < e.vertex_count && flat; ++v)
+                    flat = std::abs(plane.eval(s.vertices[e.first_vertex + v])) <= tolerance;
+            }
+            cluster_flat_[c] = flat;
+            cluster_plane_[c] = plane;
+        } else {
+            const uint32_t a = cluster.first_child, b = a + 1;
+            cluster_flat_[c] = cluster_flat_[a] && cluster_flat_[b] && same_plane(cluster_plane_[a], cluster_plane_[b]);
+            cluster_plane_[c] = cluster_plane_[a];
+        }
+    }
 }
 
 void ClusterRefiner::prepareRound(bool first) {
@@ -332,11 +370,37 @@ void ClusterRefiner::prepareRound(bool first) {
     }
 }
 
+double ClusterRefiner::minDistance(uint32_t a, uint32_t b) const {
+    const Solution& s = state_.solution;
+    const Aabb& ab = isCluster(a) ? s.clusters[clusterOf(a)].box : root_box_[a];
+    const Aabb& bb = isCluster(b) ? s.clusters[clusterOf(b)].box : root_box_[b];
+    double d = boxDistance(ab, bb);
+    // The gap between a flat node's plane and the other box, when the box is wholly on one side.
+    auto plane_gap = [&](uint32_t node, const Aabb& box) {
+        Plane plane;
+        if (isCluster(node)) {
+            if (!cluster_flat_[clusterOf(node)]) return 0.0;
+            plane = cluster_plane_[clusterOf(node)];
+        } else {
+            const Element& e = s.elements[node];
+            plane = Plane{e.normal, -glm::dot(e.normal, s.vertices[e.first_vertex])};
+        }
+        double lo = std::numeric_limits<double>::max(), hi = -lo;
+        for (const DVec3& p : corners(box)) {
+            lo = std::min(lo, plane.eval(p));
+            hi = std::max(hi, plane.eval(p));
+        }
+        // Rounding of the plane and the corners: far below any gap that matters.
+        const double tolerance = kCoplanarTolerance * s.scene_extent;
+        return lo > tolerance ? lo - tolerance : hi < -tolerance ? -hi - tolerance : 0.0;
+    };
+    d = std::max({d, plane_gap(a, bb), plane_gap(b, ab)});
+    return d;
+}
+
 double ClusterRefiner::irradianceBound(uint32_t receiver, uint32_t source) const {
     const Solution& s = state_.solution;
-    const Aabb& rb = isCluster(receiver) ? s.clusters[clusterOf(receiver)].box : root_box_[receiver];
-    const Aabb& sb = isCluster(source) ? s.clusters[clusterOf(source)].box : root_box_[source];
-    const double d = boxDistance(rb, sb);
+    const double d = minDistance(receiver, source);
     if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
     return node_power_[keyOf(s, source)] / (kPi * d * d);
 }
@@ -404,17 +468,13 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         const Aabb& sb = isCluster(s_node) ? s.clusters[clusterOf(s_node)].box : root_box_[s_node];
         if (!isCluster(r_node) && boxBehind(s, s.elements[r_node], sb)) return ev;  // Drop
         if (!isCluster(s_node) && boxBehind(s, s.elements[s_node], rb)) return ev;
-        const double distance = boxDistance(rb, sb);
+        const double distance = minDistance(r_node, s_node);
         if (!(distance > 0.0)) {
             ev.decision = Decision::Split;
             return ev;
         }
         const double error = bound(r_node, s_node);
-        auto radius = [&](uint32_t node) {
-            return isCluster(node) ? cluster_radius_[clusterOf(node)] : s.elements[node].radius;
-        };
-        const bool near = distance < kClusterNearRatio * std::max(radius(r_node), radius(s_node));
-        const bool split = near || error > node_threshold_[keyOf(s, r_node)];
+        const bool split = error > node_threshold_[keyOf(s, r_node)];
         bool visible = link.candidates == kNoList;
         if (!rays_mode && !visible) {
             // Shaft between the ends: a cluster by its box corners, a root by its polygon.
@@ -434,12 +494,29 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             ShaftQuery query;
             query.source = sp;
             query.receiver = rp;
-            query.test = test;
+            // A long list is only culled by boxes (AABBs): OBB culling and the occlusion test on
+            // every crossing part of long lists cost 70 % of house.wrl's refinement and killed
+            // nothing there; the sub-links test their shorter lists, and a link kept with a
+            // long list gets rays.
+            const size_t list_size = state_.candidate_pool[link.candidates].size();
+            query.test = list_size > kCullOnlyListSize ? OcclusionTest::None : test;
             query.polygon_shaft = false;
             query.excluded = excluded;
             ShaftResult result;
             classifyLink(state_.parts, state_.candidate_pool[link.candidates], query, result);
             ev.shaft = true;
+            for (const uint32_t node : {r_node, s_node}) {
+                if (!isCluster(node) || !cluster_flat_[clusterOf(node)] || result.candidates.empty()) continue;
+                const Plane& plane = cluster_plane_[clusterOf(node)];
+                const double tolerance = kCoplanarTolerance * s.scene_extent;
+                std::erase_if(result.candidates, [&](uint32_t index) {
+                    const ConvexPart& part = state_.parts.parts[index];
+                    if (part.closed) return false;
+                    for (const DVec3& p : part.vertices)
+                        if (std::abs(plane.eval(p)) > tolerance) return false;
+                    return true;
+                });
+            }
             if (result.occluded) {
                 ev.occluded = true;
                 return ev;  // Drop: every segment between the ends is blocked
@@ -595,15 +672,12 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 if (ev.occluded) ++s.stats.occluded_links;
                 continue;
             }
-            uint32_t list = ev.list;
-            if (ev.new_list) {
-                list = static_cast<uint32_t>(state_.candidate_pool.size());
-                state_.candidate_pool.push_back(std::move(ev.candidates));
-            }
             if (ev.decision == Decision::Keep) {
+                // Reopened, a link is classified again from its parent's list (a superset):
+                // a kept link's own list is not stored (it was most of the memory).
                 ClusterLink final_link{.receiver = link.receiver,
                                        .source = link.source,
-                                       .candidates = list,
+                                       .candidates = ev.new_list ? link.candidates : ev.list,
                                        .kernel = kNoKernel,
                                        .visibility = ev.visibility,
                                        .scale = ev.scale};
@@ -614,7 +688,12 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 s.cluster_links.push_back(final_link);
                 continue;
             }
-            // Split.
+            // Split: the children classify against this link's list.
+            uint32_t list = ev.list;
+            if (ev.new_list) {
+                list = static_cast<uint32_t>(state_.candidate_pool.size());
+                state_.candidate_pool.push_back(std::move(ev.candidates));
+            }
             if (link.receiver == link.source) {
                 children(link.receiver, a_children);
                 for (uint32_t a : a_children)
@@ -638,6 +717,33 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         progress.update(std::min(0.5, 0.05 * ++level));
     }
     return out;
+}
+
+void forEachClusterExchange(const Solution& s, const std::function<void(uint32_t, uint32_t)>& join) {
+    for (const ClusterLink& link : s.cluster_links) {
+        if (!(link.visibility > 0.0f)) continue;
+        const Range rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
+        const DVec3 c_r = centroidOf(s, link.receiver), c_s = centroidOf(s, link.source);
+        uint32_t anchor = kNoElement;
+        auto add = [&](uint32_t root) {
+            if (anchor == kNoElement) anchor = root;
+            else join(anchor, root);
+        };
+        if (link.kernel != kNoKernel) {
+            const double* kernel = s.cluster_kernel.data() + link.kernel;
+            for (uint32_t i = 0; i < sm.count; ++i)
+                for (uint32_t j = 0; j < rm.count; ++j)
+                    if (kernel[size_t(i) * rm.count + j] > 0.0) {
+                        add(s.cluster_members[sm.first + i]);
+                        add(s.cluster_members[rm.first + j]);
+                    }
+            continue;
+        }
+        for (uint32_t k = sm.first; k < sm.first + sm.count; ++k)
+            if (sourceWeight(s.elements[s.cluster_members[k]], c_r) > 0.0) add(s.cluster_members[k]);
+        for (uint32_t k = rm.first; k < rm.first + rm.count; ++k)
+            if (receiverCosine(s.elements[s.cluster_members[k]], c_s, c_r) > 0.0) add(s.cluster_members[k]);
+    }
 }
 
 void groupClusterLinksByReceiver(Solution& s) {

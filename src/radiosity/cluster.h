@@ -3,6 +3,7 @@
 // refine down to root-root links, and the light those cluster links carry in the solve.
 // The method and why: cluster.cpp.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "radiosity/parallel.h"
@@ -12,15 +13,10 @@
 namespace radbake {
 
 // Leaves hold at most this many roots.
-inline constexpr uint32_t kClusterLeafSize = 4;
+inline constexpr uint32_t kClusterLeafSize = 8;
 // A cluster link whose ends hold at most this many member pairs keeps a kernel per pair
 // (with its own ray-cast visibility); a larger one must be wholly visible or is split.
-inline constexpr uint32_t kPairwiseLimit = 16;
-// A cluster link is kept only when its ends' boxes are at least this many times the largest
-// member radius apart: its light is uniform over each receiving root, while solve.cpp
-// corrects the element links' push-down per leaf; a near cluster link would leave the
-// gradient across a subdivided root uncorrected (4 % at room edges in a tessellated furnace).
-inline constexpr double kClusterNearRatio = 2.0;
+inline constexpr uint32_t kPairwiseLimit = 64;
 
 // Builds Solution::clusters, cluster_members, member_position and root_leaf_cluster: a
 // deterministic top-down median split of the roots' centroids along the widest axis of
@@ -54,6 +50,11 @@ public:
     // Upper bound on the irradiance any point of the receiver node can get from the source
     // node (W/m^2, max channel): Phi_S / (pi d_min^2).
     double irradianceBound(uint32_t receiver, uint32_t source) const;
+    // A lower bound on the distance between any point of the two nodes: the larger of the
+    // boxes' distance and, for a flat end (a root, or a cluster in one plane), the other
+    // box's distance from that plane (a big wall's box overlaps everything near it, its
+    // plane does not). 0 when they may touch.
+    double minDistance(uint32_t a, uint32_t b) const;
 
     // Per-node power and thresholds for the oracle: from the roots' radiosity, or before the
     // first solve (`first`) from their emission plus one ambient bounce. initial and reopen
@@ -67,9 +68,16 @@ private:
     std::vector<Aabb> root_box_;          // per root
     std::vector<double> cluster_rho_;     // per cluster: max reflectance (max channel) of its members
     std::vector<double> cluster_radius_;  // per cluster: largest member radius
+    std::vector<uint8_t> cluster_flat_;   // per cluster: every member in one plane (cluster_plane_)
+    std::vector<Plane> cluster_plane_;
     std::vector<double> node_power_;      // per root, then per cluster: sum A B (max channel)
     std::vector<double> node_threshold_;  // per root, then per cluster: the least threshold of its members
 };
+
+// Calls join(a, b) on pairs of roots that exchange light through a cluster link (enough
+// pairs to join every member that sends or receives light through it to one group), for
+// the light-exchange groups of RefineState::updateThresholds.
+void forEachClusterExchange(const Solution& solution, const std::function<void(uint32_t, uint32_t)>& join);
 
 // Sorts Solution::cluster_links by receiver node (roots first, then clusters; stable).
 void groupClusterLinksByReceiver(Solution& solution);

@@ -360,8 +360,8 @@ TEST_CASE("clustering: threads = 1 and 2 give the same result bytes") {
 }
 
 // Every surface emits, so every link carries light: the hardest case for cluster kernels
-// (the element links alone reach 1e-4 here). Measured: worst leaf 1.6 % / 0.9 %, mean 0.08 % /
-// 0.43 % at rho 0.5 / 0.9.
+// (the element links alone reach 1e-4 here). Measured: worst leaf 0.14 % / 0.8 %, mean 0.09 % /
+// 0.69 % at rho 0.5 / 0.9.
 TEST_CASE("tessellated closed furnace with clusters: B = pi L_e / (1 - rho) within 2 %, mean within 0.2 % / 1 %") {
     for (const float rho : {0.5f, 0.9f}) {
         CAPTURE(rho);
