@@ -41,8 +41,13 @@ public:
 
     // After a solve (and RefineState::updateThresholds): the cluster links whose bound now
     // exceeds the threshold are removed and refined again. Returns the root-root links they
-    // give; `changed` tells whether any cluster link was reopened.
-    std::vector<PendingLink> reopen(Progress& progress, bool& changed);
+    // give; `changed` tells whether any cluster link was reopened. A link from a source that
+    // had no light when it was evaluated is deferred (it carries nothing); reopen evaluates
+    // those whose source now has light (all that `deferred_only` reopens).
+    std::vector<PendingLink> reopen(Progress& progress, bool& changed, bool deferred_only = false);
+    // Whether some link is deferred: the solver then refines and solves once more after its
+    // last round, so light reflected by the first solve is carried.
+    bool hasDeferred() const;
 
     // The bound on the power a link may misplace (W, max channel), for tests: rho_R A_R
     // Phi_S / (pi d_min^2), infinite when the nodes' boxes touch or overlap.
@@ -56,10 +61,9 @@ public:
     // plane does not). 0 when they may touch.
     double minDistance(uint32_t a, uint32_t b) const;
 
-    // Per-node power and thresholds for the oracle: from the roots' radiosity, or before the
-    // first solve (`first`) from their emission plus one ambient bounce. initial and reopen
-    // call it; exposed for tests.
-    void prepareRound(bool first);
+    // Per-node power and thresholds for the oracle, from the roots' radiosity (before the
+    // first solve: their emission). initial and reopen call it; exposed for tests.
+    void prepareRound();
 
 private:
     std::vector<PendingLink> refine(std::vector<PendingClusterLink> pending, Progress& progress);

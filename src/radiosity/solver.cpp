@@ -128,6 +128,26 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         progress.beginPhase("solve" + suffix);
         result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
         s.stats.iterations += result.iterations;
+        if (clusters && clusters->hasDeferred()) {
+            // Cluster links deferred for want of light (the first round knows emission only)
+            // are evaluated now that the solve has lit their sources, and solved once more,
+            // before anything reads the solution's power or irradiance.
+            // The power rule's thresholds from this solve; the local rule stays as it was in
+            // this round (off in the first, as for element links).
+            const bool local_active = state.local_active;
+            state.updateThresholds();
+            state.local_active = local_active;
+            bool changed = false;
+            std::vector<PendingLink> deferred = clusters->reopen(progress, changed, true);
+            if (changed) {
+                refineLinks(state, std::move(deferred), progress);
+                computeDirectLight(state);
+                groupLinksByReceiver(s, &state.records);
+                groupClusterLinksByReceiver(s);
+                result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
+                s.stats.iterations += result.iterations;
+            }
+        }
         s.stats.rounds = round + 1;
         if (round + 1 == rounds) break;
         state.updateThresholds();
