@@ -120,23 +120,43 @@ bool boxBehind(const Solution& s, const Element& root, const Aabb& box) {
     return true;
 }
 
+// The point form factor from the receiver polygon j to polygon i averaged over j: 2 x 2 Gauss
+// points on a quad (as solve.cpp's leaf correction), 2 x 2 stratified points otherwise. The
+// centroid alone read 0.1 % high on a closed room's row sums, 10 % in its radiosity at
+// rho = 0.99.
+double averagedFormFactor(const Solution& s, const Element& j, const PolygonView& source) {
+    const PolygonView poly = polygonOf(s, j);
+    const auto& q = poly.vertices;
+    if (q.size() != 4) {
+        const auto points = stratifiedPolygonPoints(q, 2);
+        double sum = 0.0;
+        for (const DVec3& p : points) sum += pointPolygonFormFactor(p, j.normal, source.vertices, source.normal);
+        return points.empty() ? 0.0 : sum / static_cast<double>(points.size());
+    }
+    constexpr double kG = 0.28867513459481288225;
+    double sum = 0.0, weight = 0.0;
+    for (const double u : {0.5 - kG, 0.5 + kG})
+        for (const double v : {0.5 - kG, 0.5 + kG}) {
+            const DVec3 p = (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
+            const DVec3 du = (1 - v) * (q[1] - q[0]) + v * (q[2] - q[3]);
+            const DVec3 dv = (1 - u) * (q[3] - q[0]) + u * (q[2] - q[1]);
+            const double w = std::abs(glm::dot(glm::cross(du, dv), j.normal));
+            sum += w * pointPolygonFormFactor(p, j.normal, source.vertices, source.normal);
+            weight += w;
+        }
+    return weight > 0.0 ? sum / weight : 0.0;
+}
+
 // The kernel of a member pair: irradiance at root j per unit radiosity of root i, the exact
-// point-to-polygon form factor from j's centroid to polygon i (a point kernel
-// A_i cos_i cos_j / (pi d^2) overestimates near pairs, and in a closed room those errors
-// all have one sign), averaged over 2 x 2 points of j when j is near (within 4 times the
-// pair's radii). 0 when either faces away.
+// point-to-polygon form factor to polygon i averaged over j (a point kernel
+// A_i cos_i cos_j / (pi d^2) overestimates near pairs, and in a closed room those errors all
+// have one sign). 0 when either faces away.
 double pairKernel(const Solution& s, const Element& i, const Element& j) {
     const DVec3 u = j.centroid - i.centroid;
-    const double d2 = glm::dot(u, u);
-    if (!(d2 > 0.0)) return 0.0;
+    if (!(glm::dot(u, u) > 0.0)) return 0.0;
     const PolygonView source = polygonOf(s, i);
     if (!facing(polygonOf(s, j), source)) return 0.0;
-    const double reach = 4.0 * (i.radius + j.radius);
-    if (d2 > reach * reach) return pointPolygonFormFactor(j.centroid, j.normal, source.vertices, i.normal);
-    const auto points = stratifiedPolygonPoints(polygonOf(s, j).vertices, 2);
-    double sum = 0.0;
-    for (const DVec3& p : points) sum += pointPolygonFormFactor(p, j.normal, source.vertices, i.normal);
-    return points.empty() ? 0.0 : sum / static_cast<double>(points.size());
+    return averagedFormFactor(s, j, source);
 }
 
 // Separable kernel K_ji ~ s_i r_j: the product form f(x, y) ~ f(x, c_R) f(c_S, y) / f(c_S, c_R)
@@ -626,7 +646,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 const Element& ei = s.elements[s.cluster_members[sm.first + sf[(t * 7) % sf.size()]]];
                 const Element& ej = s.elements[s.cluster_members[rm.first + rf[(t * 5 + t / sf.size()) % rf.size()]]];
                 product += sourceWeight(ei, c_r) * receiverCosine(ej, c_s, c_r);
-                exact += pointPolygonFormFactor(ej.centroid, ej.normal, polygonOf(s, ei).vertices, ei.normal);
+                exact += averagedFormFactor(s, ej, polygonOf(s, ei));
             }
             if (product > 0.0) ev.scale = static_cast<float>(exact / product);
         }

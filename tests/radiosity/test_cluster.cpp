@@ -363,11 +363,11 @@ TEST_CASE("clustering: threads = 1 and 2 give the same result bytes") {
     CHECK(differing == 0);
 }
 
-// Every surface emits, so every link carries light: the hardest case for cluster kernels
-// (the element links alone reach 1e-4 here). Measured: worst leaf 0.3 % / 0.9 %, mean 0.09 % /
-// 0.82 % at rho 0.5 / 0.9.
-TEST_CASE("tessellated closed furnace with clusters: B = pi L_e / (1 - rho) within 2 %, mean within 0.2 % / 1 %") {
-    for (const float rho : {0.5f, 0.9f}) {
+// Every surface emits, so every link carries light: the hardest case for cluster kernels, and
+// at rho = 0.99 a row-sum bias shows 99 times over (receiver-centroid kernels once read 10 %
+// high here). Measured: worst leaf 0.2 % / 0.08 % / 0.1 %, mean below 1e-4 at rho 0.5 / 0.9 / 0.99.
+TEST_CASE("tessellated closed furnace with clusters: B = pi L_e / (1 - rho) within 1 %, its mean within 0.1 %") {
+    for (const float rho : {0.5f, 0.9f, 0.99f}) {
         CAPTURE(rho);
         Scene scene;
         const uint32_t m = addMaterial(scene, Vec3(rho), Vec3(1.0f));
@@ -387,8 +387,8 @@ TEST_CASE("tessellated closed furnace with clusters: B = pi L_e / (1 - rho) with
         MESSAGE("rho " << rho << ": " << solution->stats.cluster_links << " cluster links, "
                        << solution->stats.element_links << " element links, worst leaf " << worst << ", mean "
                        << power / area / expected - 1.0);
-        CHECK(worst < 0.02);
-        CHECK(power / area == doctest::Approx(expected).epsilon(rho < 0.6f ? 0.002 : 0.01).scale(0.0));
+        CHECK(worst < 0.01);
+        CHECK(power / area == doctest::Approx(expected).epsilon(0.001).scale(0.0));
         CHECK(probeIrradiance(*solution, {0.5, 0.5, 1.0}, {0, 0, 1}).x == doctest::Approx(expected).epsilon(0.01).scale(0.0));
     }
 }
