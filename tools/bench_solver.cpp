@@ -2,6 +2,7 @@
 // thread count given, and prints the median wall time of N runs, the stats and peak RSS.
 //   bench_solver SCENE [--modes rays,aabb,obb,exact] [--threads 1,2] [--runs 3]
 //                [--quality draft|medium|high|reference] [--unit-scale S] [--pin 0|1]
+//                [--clustering 0|1]
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -39,12 +40,12 @@ double peakRssMb() {
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr, "usage: bench_solver SCENE [--modes rays,aabb,obb,exact] [--threads 1,2] [--runs 3] "
-                             "[--quality medium] [--unit-scale S]\n");
+                             "[--quality medium] [--unit-scale S] [--pin 0|1] [--clustering 0|1]\n");
         return 2;
     }
     std::string path = argv[1], modes = "rays,aabb,obb,exact", threads = "1,2", quality = "medium";
     int runs = 3;
-    bool pin = true;
+    bool pin = true, clustering = true;
     ImportOptions import_options;
     for (int i = 2; i + 1 < argc; i += 2) {
         const std::string key = argv[i], value = argv[i + 1];
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
         else if (key == "--runs") runs = std::max(1, std::atoi(value.c_str()));
         else if (key == "--quality") quality = value;
         else if (key == "--pin") pin = value != "0";
+        else if (key == "--clustering") clustering = value != "0";
         else if (key == "--unit-scale") import_options.unit_scale = std::strtof(value.c_str(), nullptr);
         else {
             std::fprintf(stderr, "unknown option %s\n", key.c_str());
@@ -81,6 +83,7 @@ int main(int argc, char** argv) {
             SolverOptions options = SolverOptions::forQuality(q);
             options.visibility = mode;
             const Threading threading{.threads = std::atoi(thread_text.c_str()), .pin = pin};
+            options.clustering = clustering;
             std::vector<double> seconds;
             SolveStats stats;
             for (int r = 0; r < runs; ++r) {
@@ -97,7 +100,8 @@ int main(int argc, char** argv) {
                         threading.threads, seconds[seconds.size() / 2], stats.elements, stats.leaves, stats.links,
                         stats.shafts, stats.occluded_links, stats.rays, stats.iterations, peakRssMb());
             for (double s : seconds) std::printf(" %.3f", s);
-            std::printf(")\n");
+            std::printf("; cluster links %zu, element links %zu, clusters %zu)\n", stats.cluster_links,
+                        stats.element_links, stats.clusters);
             std::fflush(stdout);
         }
     }

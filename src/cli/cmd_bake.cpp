@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <memory>
@@ -32,6 +33,7 @@ struct BakeArgs {
     bool quiet = false;
     bool preview = false;
     bool no_lightmaps = false;
+    bool no_clustering = false;
     LightmapSettings lightmaps;
     // Raw knobs; applied over the preset only when given on the command line.
     double error_threshold = 0.0;
@@ -78,6 +80,7 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     if (args.min_area_option->count()) solver.min_element_area = args.min_area;
     if (args.tolerance_option->count()) solver.iteration_tolerance = args.tolerance;
     if (args.max_iterations_option->count()) solver.max_iterations = args.max_iterations;
+    solver.clustering = !args.no_clustering;
     const double texel_tolerance = options.lightmaps.texel_tolerance;
     options.lightmaps = args.lightmaps;
     options.lightmaps.enabled = !args.no_lightmaps;
@@ -217,6 +220,9 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
             ->check(CLI::PositiveNumber);
 
+    cmd->add_flag("--no-clustering", args->no_clustering,
+                  "Link every facing pair of polygons instead of starting links between clusters of them "
+                  "(quadratic in the polygon count: for comparisons)");
     cmd->add_flag("--no-lightmaps", args->no_lightmaps, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
     cmd->add_option("--texel-density", args->lightmaps.texels_per_unit, "Lightmap texels per scene unit")
         ->check(CLI::PositiveNumber)

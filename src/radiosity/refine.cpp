@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "geometry/parts.h"
+#include "radiosity/cluster.h"
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/punctual_lights.h"
@@ -158,6 +159,10 @@ void groupThresholds(RefineState& state) {
         const uint32_t b = findGroup(group, s.elements[link.source].root);
         if (a != b) group[std::max(a, b)] = std::min(a, b);  // smallest index: deterministic
     }
+    forEachClusterExchange(s, [&](uint32_t ra, uint32_t rb) {  // cluster links carry light too
+        const uint32_t a = findGroup(group, ra), b = findGroup(group, rb);
+        if (a != b) group[std::max(a, b)] = std::min(a, b);
+    });
     std::vector<double> power(s.root_count, 0.0);
     for (uint32_t i = 0; i < s.root_count; ++i)
         power[findGroup(group, i)] += s.elements[i].area * maxChannel(s.elements[i].radiosity);

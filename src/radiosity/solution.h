@@ -11,6 +11,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "geometry/types.h"
 #include "radiosity/solver.h"
 #include "scene/scene.h"
 
@@ -55,11 +56,50 @@ struct Link {
     float visibility = 1.0f;
 };
 
+// Clustering (cluster.h): a binary tree of boxes over the root elements. Links that start
+// at the top cluster refine down through cluster-cluster and cluster-root links to root-root
+// links (Solution::links). A link end is a node: a root element index, or a cluster index
+// with kClusterNode set.
+inline constexpr uint32_t kClusterNode = 0x80000000u;
+inline constexpr uint32_t kNoKernel = 0xffffffffu;
+
+struct Cluster {
+    Aabb box;                   // of its members' polygons
+    DVec3 centroid{0.0};        // area-weighted centroid of its members
+    double area = 0.0;          // sum of its members' areas
+    uint32_t parent = kNoElement;
+    uint32_t first_child = kNoElement;  // two children, contiguous; kNoElement for a leaf
+    uint32_t first_member = 0;  // into Solution::cluster_members (members are contiguous)
+    uint32_t member_count = 0;
+    bool isLeaf() const { return first_child == kNoElement; }
+};
+
+// Light from the source node's member roots to the receiver node's member roots, a point
+// kernel between member centroids (cluster.cpp): small links hold the kernel per member
+// pair (visibility included) at `kernel` in Solution::cluster_kernel, large ones are
+// separable (kNoKernel: source weights times receiver cosines, wholly visible).
+struct ClusterLink {
+    uint32_t receiver = 0;          // node
+    uint32_t source = 0;            // node
+    uint32_t candidates = 0xffffffffu;  // potential occluders (RefineState::candidate_pool), to reopen it
+    uint32_t kernel = kNoKernel;
+    float visibility = 1.0f;        // 0: every sampled ray was blocked or the receiver is black
+                                    // (carries nothing); < 0: deferred, its source had no light yet
+    float scale = 1.0f;             // separable links: the kernel's calibration on sampled pairs
+};
+
 struct Solution {
     std::vector<DVec3> vertices;   // element polygon loops
     std::vector<Element> elements; // roots first (root_count of them), children appended
     uint32_t root_count = 0;
     std::vector<Link> links;       // grouped by receiver
+    // Clustering (empty when SolverOptions::clustering is off or the scene has one root).
+    std::vector<Cluster> clusters;            // clusters[0] is the top
+    std::vector<uint32_t> cluster_members;    // root indices, in cluster order
+    std::vector<uint32_t> member_position;    // per root: its index in cluster_members
+    std::vector<uint32_t> root_leaf_cluster;  // per root: the leaf cluster holding it
+    std::vector<ClusterLink> cluster_links;   // grouped by receiver node (roots, then clusters)
+    std::vector<double> cluster_kernel;       // per small cluster link: |S| x |R| irradiance per unit B
     double scene_extent = 1.0;     // diagonal of the scene's bounding box (metres)
     double total_area = 0.0;
     std::unique_ptr<RayCaster> rays;  // for probes and vertex evaluation

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "radiosity/cluster.h"
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/refine.h"
@@ -24,8 +25,11 @@ struct Operator {
     std::vector<size_t> link_begin;   // per element + 1
     std::vector<DVec3> pushed;        // per element: irradiance gathered here and above
     std::vector<double> correction;   // per leaf: exact / hierarchical row sum (see below)
+    ClusterTransfer clusters;         // cluster links (cluster.h)
+    std::vector<DVec3> cluster_h;     // per root: irradiance through cluster links
+    std::vector<double> cluster_share;  // per leaf: its share of its root's cluster irradiance
 
-    Operator(Solution& solution, ParallelRunner& r) : s(solution), runner(r) {
+    Operator(Solution& solution, ParallelRunner& r) : s(solution), runner(r), clusters(solution) {
         double total = 0.0;
         for (uint32_t i = 0; i < s.elements.size(); ++i)
             if (s.elements[i].isLeaf()) {
@@ -38,6 +42,7 @@ struct Operator {
         for (size_t i = 0; i < s.elements.size(); ++i) link_begin[i + 1] += link_begin[i];
         pushed.assign(s.elements.size(), DVec3(0.0));
         computeCorrections();
+        cluster_share = clusters.leafFactors(s, runner, leaves);
     }
 
     // Pushing a link's irradiance down assumes the form factor is uniform over its receiver;
@@ -123,6 +128,16 @@ struct Operator {
         y.resize(leaves.size());
         for (size_t k = 0; k < leaves.size(); ++k)
             y[k] = correction[k] * (s.elements[leaves[k]].reflectance * pushed[leaves[k]]);
+        if (clusters.empty()) return;
+        // Cluster links bring a uniform irradiance per root; the row-sum correction is for the
+        // element links' push-down only (a cluster link's kernel has no exact counterpart
+        // short of every member pair, the quadratic cost clustering avoids).
+        clusters.gather(s, runner, cluster_h);
+        for (size_t k = 0; k < leaves.size(); ++k) {
+            const Element& leaf = s.elements[leaves[k]];
+            y[k] += cluster_share[k] * (leaf.reflectance * cluster_h[leaf.root]);
+        }
+        for (uint32_t r = 0; r < s.root_count; ++r) s.elements[r].gathered += cluster_h[r];
     }
 
     double dot(const Vector& a, const Vector& b) const {

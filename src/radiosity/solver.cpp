@@ -4,6 +4,7 @@
 #include <string>
 
 #include "geometry/parts.h"
+#include "radiosity/cluster.h"
 #include "radiosity/elements.h"
 #include "core/parallel.h"
 #include "radiosity/refine.h"
@@ -113,26 +114,60 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
     stopIfCancelled(runner);
     for (Element& e : s.elements) e.radiosity = e.emission;
     pullRadiosity(s);
-    std::vector<PendingLink> pending = initialLinks(state);
+    // Clustering: links start at the top cluster (cluster.h); otherwise every facing pair.
+    std::optional<ClusterRefiner> clusters;
+    if (options.clustering && s.root_count > 1) {
+        buildClusters(s);
+        clusters.emplace(state);
+    }
+    std::vector<PendingLink> pending;
+    if (!clusters) pending = initialLinks(state);
     LinearSolveResult result;
     const int rounds = std::max(1, options.refine_rounds);
     for (int round = 0; round < rounds; ++round) {
         const std::string suffix = round == 0 ? "" : " " + std::to_string(round + 1);
         progress.beginPhase("links" + suffix);
+        if (clusters && round == 0) pending = clusters->initial(progress);
         refineLinks(state, std::move(pending), progress);
         stopIfCancelled(runner);
         computeDirectLight(state);  // elements made by the refinement
         groupLinksByReceiver(s, &state.records);
+        if (clusters) groupClusterLinksByReceiver(s);
         stopIfCancelled(runner);
         progress.beginPhase("solve" + suffix);
         result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
         stopIfCancelled(runner);
         s.stats.iterations += result.iterations;
+        if (clusters && clusters->hasDeferred()) {
+            // Cluster links deferred for want of light (the first round knows emission only)
+            // are evaluated now that the solve has lit their sources, and solved once more,
+            // before anything reads the solution's power or irradiance.
+            // The power rule's thresholds from this solve; the local rule stays as it was in
+            // this round (off in the first, as for element links).
+            const bool local_active = state.local_active;
+            state.updateThresholds();
+            state.local_active = local_active;
+            bool changed = false;
+            std::vector<PendingLink> deferred = clusters->reopen(progress, changed, true);
+            if (changed) {
+                refineLinks(state, std::move(deferred), progress);
+                computeDirectLight(state);
+                groupLinksByReceiver(s, &state.records);
+                groupClusterLinksByReceiver(s);
+                result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
+                s.stats.iterations += result.iterations;
+            }
+        }
         s.stats.rounds = round + 1;
         if (round + 1 == rounds) break;
         state.updateThresholds();
         pending = reopenLinks(state);
-        if (pending.empty()) break;
+        bool clusters_changed = false;
+        if (clusters) {
+            std::vector<PendingLink> more = clusters->reopen(progress, clusters_changed);
+            pending.insert(pending.end(), more.begin(), more.end());
+        }
+        if (pending.empty() && !clusters_changed) break;
     }
     progress.endPhase();
     if (s.stats.classify_fallbacks > 0)
@@ -170,7 +205,10 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
         s.rays->reportLateErrors(diagnostics);
         s.stats.elements = s.elements.size();
         s.stats.roots = s.root_count;
-        s.stats.links = s.links.size();
+        s.stats.element_links = s.links.size();
+        s.stats.cluster_links = s.cluster_links.size();
+        s.stats.clusters = s.clusters.size();
+        s.stats.links = s.links.size() + s.cluster_links.size();
         s.stats.leaves = 0;
         s.stats.partial_links = 0;
         for (const Element& e : s.elements) s.stats.leaves += e.isLeaf() ? 1 : 0;

@@ -62,6 +62,9 @@ struct SolverOptions {
     double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
                                            // radius / distance, so a sliver of light is not lost between rays
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
+    // Links start between clusters of roots (cluster.h) instead of between every pair of
+    // roots: linking in O(n log n) instead of O(n^2). Off: every facing pair of roots.
+    bool clustering = true;
     double local_error_threshold = 0.1;   // fraction of its own irradiance a link may vary over a
                                           // receiver (above; 0: off; needs refine_rounds >= 2)
 
@@ -73,7 +76,7 @@ const char* toString(Quality quality);
 
 struct SolveStats {
     size_t elements = 0;
-    size_t links = 0;
+    size_t links = 0;                 // element links + cluster links
     size_t shafts = 0;
     size_t occluded_links = 0;
     size_t rays = 0;
@@ -86,6 +89,9 @@ struct SolveStats {
     size_t classify_fallbacks = 0;    // links whose shaft classification failed (out of memory): kept partial
     int rounds = 0;
     double residual = 0.0;            // final relative residual
+    size_t element_links = 0;         // Solution::links (between elements)
+    size_t cluster_links = 0;         // Solution::cluster_links (a cluster at one end at least)
+    size_t clusters = 0;
 };
 
 struct Solution;  // defined in radiosity/solution.h
