@@ -23,7 +23,8 @@
 #include "pipeline/bake.h"         // Bake, BakeStatus, BakedLightmaps
 #include "pipeline/bake_options.h" // BakeOptions, LightmapSettings
 #include "pipeline/depfile.h"      // writeDepfile
-#include "radiosity/solution.h"    // Solution, SolverOptions, SolveStats
+#include "radiosity/solution.h"    // Solution, Element, Link, probeIrradiance
+#include "radiosity/solver.h"      // SolverOptions, SolveStats (solver_options.h)
 #include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera
 
 namespace radbake {

@@ -21,6 +21,7 @@
 #include "geometry/parts.h"
 #include "io/import.h"
 #include "radiosity/solution.h"
+#include "radiosity/solver.h"
 
 using namespace radbake;
 

@@ -24,6 +24,7 @@
 #include "io/import.h"
 #include "radiosity/evaluate_probe.h"
 #include "radiosity/solution.h"
+#include "radiosity/solver.h"
 
 using namespace radbake;
 

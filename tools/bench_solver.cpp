@@ -17,6 +17,7 @@
 #include "geometry/parts.h"
 #include "io/import.h"
 #include "radiosity/solution.h"
+#include "radiosity/solver.h"
 
 using namespace radbake;
 
@@ -75,10 +76,10 @@ int main(int argc, char** argv) {
     std::printf("%-6s %3s %9s %8s %8s %9s %8s %9s %6s %5s %8s\n", "mode", "thr", "median_s", "elements", "leaves",
                 "links", "shafts", "occluded", "rays", "iters", "rss_mb");
     for (const std::string& mode_name : split(modes)) {
-        const VisibilityMode mode = mode_name == "rays" ? VisibilityMode::Rays
-                                    : mode_name == "aabb" ? VisibilityMode::Aabb
-                                    : mode_name == "obb" ? VisibilityMode::Obb
-                                                         : VisibilityMode::Exact;
+        const LinkVisibility mode = mode_name == "rays" ? LinkVisibility::Rays
+                                    : mode_name == "aabb" ? LinkVisibility::Aabb
+                                    : mode_name == "obb" ? LinkVisibility::Obb
+                                                         : LinkVisibility::Exact;
         for (const std::string& thread_text : split(threads)) {
             SolverOptions options = SolverOptions::forQuality(q);
             options.visibility = mode;

@@ -51,9 +51,9 @@ struct BakeArgs {
 
 const std::vector<std::pair<std::string, Quality>> kQualities = {
     {"draft", Quality::Draft}, {"medium", Quality::Medium}, {"high", Quality::High}, {"reference", Quality::Reference}};
-const std::vector<std::pair<std::string, VisibilityMode>> kVisibilities = {
-    {"rays", VisibilityMode::Rays}, {"aabb", VisibilityMode::Aabb}, {"obb", VisibilityMode::Obb},
-    {"exact", VisibilityMode::Exact}};
+const std::vector<std::pair<std::string, LinkVisibility>> kVisibilities = {
+    {"rays", LinkVisibility::Rays}, {"aabb", LinkVisibility::Aabb}, {"obb", LinkVisibility::Obb},
+    {"exact", LinkVisibility::Exact}};
 
 template <typename Enum>
 std::vector<std::string> namesOf(const std::vector<std::pair<std::string, Enum>>& table) {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/diagnostics.h"
-#include "radiosity/solver.h"
+#include "radiosity/solver_options.h"
 
 namespace radbake {
 

@@ -11,6 +11,7 @@
 #include "export/hash.h"
 #include "geometry/parts.h"
 #include "io/import.h"
+#include "radiosity/solver.h"
 
 namespace radbake {
 namespace {

@@ -11,7 +11,7 @@
 #include "core/parallel.h"
 #include "export/probes.h"
 #include "io/import.h"
-#include "radiosity/solver.h"
+#include "radiosity/solver_options.h"
 
 namespace radbake {
 

@@ -180,10 +180,10 @@ double receiverCosine(const Element& j, const DVec3& c_s, const DVec3& c_r) {
     return cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2);
 }
 
-OcclusionTest occlusionTestFor(VisibilityMode mode) {
+OcclusionTest occlusionTestFor(LinkVisibility mode) {
     switch (mode) {
-        case VisibilityMode::Obb: return OcclusionTest::Obb;
-        case VisibilityMode::Exact: return OcclusionTest::Exact;
+        case LinkVisibility::Obb: return OcclusionTest::Obb;
+        case LinkVisibility::Exact: return OcclusionTest::Exact;
         default: return OcclusionTest::None;
     }
 }
@@ -488,7 +488,7 @@ std::vector<PendingLink> ClusterRefiner::reopen(Progress& progress, bool& change
 
 std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> pending, Progress& progress) {
     Solution& s = state_.solution;
-    const bool rays_mode = state_.options.visibility == VisibilityMode::Rays;
+    const bool rays_mode = state_.options.visibility == LinkVisibility::Rays;
     const OcclusionTest test = occlusionTestFor(state_.options.visibility);
     std::vector<PendingLink> out;
 

@@ -104,9 +104,9 @@ constexpr int kSuspectLevels = 2;
 
 struct Gatherer {
     const Solution& s;
-    DVec3 point, normal, origin;
-    double lift;
-    std::vector<DVec3> points;
+    DVec3 point{0.0}, normal{0.0}, origin{0.0};
+    double lift = 0.0;
+    std::vector<DVec3> points{};
     DVec3 sum{0.0};
     ProbeCounters* counters = nullptr;
 
@@ -238,7 +238,12 @@ DVec3 evaluate(const Solution& solution, const DVec3& point_on_surface, const DV
     if (solution.elements.empty()) return DVec3(0.0);
     const double lift = kLift * solution.scene_extent;
     const DVec3 point = liftOffSurfaces(solution, point_on_surface, lift);
-    Gatherer g{solution, point, normal, point + lift * normal, lift, {}, DVec3(0.0), counters};
+    Gatherer g{.s = solution,
+               .point = point,
+               .normal = normal,
+               .origin = point + lift * normal,
+               .lift = lift,
+               .counters = counters};
     for (uint32_t r = 0; r < solution.root_count; ++r) g.visit(r);
     DVec3 h = g.sum;
     if (solution.scene && !solution.scene->lights.empty())

@@ -37,10 +37,10 @@ QuadratureOptions quadratureOptions(const SolverOptions& options) {
     return q;
 }
 
-OcclusionTest occlusionTest(VisibilityMode mode) {
+OcclusionTest occlusionTest(LinkVisibility mode) {
     switch (mode) {
-        case VisibilityMode::Obb: return OcclusionTest::Obb;
-        case VisibilityMode::Exact: return OcclusionTest::Exact;
+        case LinkVisibility::Obb: return OcclusionTest::Obb;
+        case LinkVisibility::Exact: return OcclusionTest::Exact;
         default: return OcclusionTest::None;
     }
 }
@@ -54,7 +54,7 @@ Evaluation evaluate(const RefineState& state, const PendingLink& link) {
     Evaluation out;
     out.ff = polygonFormFactor(receiver, source, quadratureOptions(state.options));
     if (!(out.ff.form_factor > 0.0)) return out;
-    if (state.options.visibility == VisibilityMode::Rays) {
+    if (state.options.visibility == LinkVisibility::Rays) {
         // The baseline without shafts: rays against the whole scene on every candidate link.
         out.visibility = s.rays->visibleFraction(source.vertices, receiver.vertices,
                                                  state.options.visibility_samples, &out.rays);
@@ -218,7 +218,7 @@ void RefineState::updateThresholds() {
 
 RefineState makeRefineState(const Scene& scene, const PartSet& parts, const SolverOptions& options,
                             ParallelRunner& runner, Solution& solution) {
-    RefineState state{scene, parts, options, runner, solution, {}, {}, {}, {}, {}, 0.0, {}, 0.0, {}, false};
+    RefineState state{.scene = scene, .parts = parts, .options = options, .runner = runner, .solution = solution};
     state.candidate_pool.push_back(allParts(parts));
     state.root_excluded.resize(solution.root_count);
     for (uint32_t i = 0; i < solution.root_count; ++i) {
@@ -309,7 +309,7 @@ std::vector<PendingLink> initialLinks(const RefineState& state) {
 void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress& progress) {
     Solution& s = state.solution;
     std::vector<size_t> needs_rays;  // final partial links (not in Rays mode)
-    const bool rays_mode = state.options.visibility == VisibilityMode::Rays;
+    const bool rays_mode = state.options.visibility == LinkVisibility::Rays;
     int level = 0;
     while (!pending.empty()) {
         if (state.runner.cancelled()) return;  // the solver stops after this phase
@@ -363,7 +363,6 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
             } else if (partial) {
                 needs_rays.push_back(s.links.size());
             }
-            if (partial) ++s.stats.partial_links;
             s.links.push_back(final_link);
             state.records.push_back({spread, list});
         }

@@ -31,20 +31,20 @@ struct RefineState {
     const SolverOptions& options;
     ParallelRunner& runner;
     Solution& solution;
-    std::vector<std::vector<uint32_t>> candidate_pool;  // [0] = every part
-    std::vector<std::vector<uint32_t>> root_excluded;   // parts holding each root's polygon
-    std::vector<LinkRecord> records;
-    std::vector<uint8_t> direct_done;                   // per element
-    std::vector<DVec3> direct;                          // per element: mean punctual irradiance (W/m^2)
+    std::vector<std::vector<uint32_t>> candidate_pool{};  // [0] = every part
+    std::vector<std::vector<uint32_t>> root_excluded{};   // parts holding each root's polygon
+    std::vector<LinkRecord> records{};
+    std::vector<uint8_t> direct_done{};                   // per element
+    std::vector<DVec3> direct{};                          // per element: mean punctual irradiance (W/m^2)
     double threshold = 0.0;  // W: a link may misplace at most this much power
     // Per root, once a solve has linked the roots: the power rule's threshold relative to
     // the power of the root's light-exchange group (below), never above `threshold`.
-    std::vector<double> root_threshold;
+    std::vector<double> root_threshold{};
     double min_area = 0.0;   // m^2: elements at or below it are not split
     // The local rule (SolverOptions::local_error_threshold), active once a solve has given
     // every element an irradiance: per element (elements made since then read their
     // nearest ancestor's), the mean irradiance H (max channel, W/m^2) from the last solve.
-    std::vector<double> irradiance;
+    std::vector<double> irradiance{};
     bool local_active = false;
     // After a solve: the power rule relative to the power leaving the surfaces of each
     // light-exchange group, and the local rule's irradiances from the solved hierarchy.

@@ -12,7 +12,7 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "geometry/types.h"
-#include "radiosity/solver.h"
+#include "radiosity/solver_options.h"
 #include "scene/scene.h"
 
 namespace radbake {
@@ -112,13 +112,6 @@ struct Solution {
     Solution(Solution&&) noexcept;
     Solution& operator=(Solution&&) noexcept;
 };
-
-// Solves the scene's light on the runner's threads. Returns nullopt after reporting an
-// error to diagnostics, or soon after the runner's cancel flag is set (no error then: the
-// caller knows it cancelled). Never throws. Deterministic: the same result bytes for any
-// thread count.
-std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts, const SolverOptions& options,
-                                       ParallelRunner& runner, Progress& progress, Diagnostics& diagnostics);
 
 // Irradiance H (W/m^2, DESIGN.md section 2) arriving at `point` on a surface facing `normal`
 // (unit), gathered from the solved hierarchy (point-to-polygon form factors, visibility by

@@ -26,7 +26,7 @@ BakeReport fullReport() {
     report.solve.iterations = 6;
     report.solve.converged = true;
     report.options = SolverOptions::forQuality(Quality::High);
-    report.options.visibility = VisibilityMode::Obb;
+    report.options.visibility = LinkVisibility::Obb;
     report.threads = 2;
     report.peak_rss_mb = 12.5;
     report.vertices = 7;

@@ -15,6 +15,7 @@
 #include "geometry/parts.h"
 #include "io/import.h"
 #include "radiosity/solution.h"
+#include "radiosity/solver.h"
 
 namespace {
 

@@ -23,7 +23,7 @@ Scene room(float scale) {
     return scene;
 }
 
-SolverOptions options(VisibilityMode mode = VisibilityMode::Exact) {
+SolverOptions options(LinkVisibility mode = LinkVisibility::Exact) {
     SolverOptions o = SolverOptions::forQuality(Quality::Medium);
     o.visibility = mode;
     return o;
@@ -33,7 +33,7 @@ SolverOptions options(VisibilityMode mode = VisibilityMode::Exact) {
 
 TEST_CASE("threads = 1 and 2 give the same result bytes") {
     const Scene scene = room(1.0f);
-    for (const VisibilityMode mode : {VisibilityMode::Rays, VisibilityMode::Exact}) {
+    for (const LinkVisibility mode : {LinkVisibility::Rays, LinkVisibility::Exact}) {
         CAPTURE(toString(mode));
         Diagnostics d1, d2;
         const auto one = solve(scene, options(mode), d1, 1);

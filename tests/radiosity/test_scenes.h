@@ -5,6 +5,7 @@
 #include "core/progress.h"
 #include "geometry/parts.h"
 #include "radiosity/solution.h"
+#include "radiosity/solver.h"
 #include "scene/scene.h"
 
 namespace radbake::test {

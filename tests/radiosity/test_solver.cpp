@@ -14,7 +14,7 @@ namespace {
 
 constexpr double kPerpendicularUnit = 0.200043776075403154;
 
-SolverOptions medium(VisibilityMode mode = VisibilityMode::Exact) {
+SolverOptions medium(LinkVisibility mode = LinkVisibility::Exact) {
     SolverOptions o = SolverOptions::forQuality(Quality::Medium);
     o.visibility = mode;
     return o;
@@ -103,8 +103,8 @@ TEST_CASE("perpendicular unit squares sharing an edge: the hierarchy's links sum
 }
 
 TEST_CASE("an occluder fully between two squares: zero transfer in every visibility mode") {
-    for (const VisibilityMode mode :
-         {VisibilityMode::Rays, VisibilityMode::Aabb, VisibilityMode::Obb, VisibilityMode::Exact}) {
+    for (const LinkVisibility mode :
+         {LinkVisibility::Rays, LinkVisibility::Aabb, LinkVisibility::Obb, LinkVisibility::Exact}) {
         CAPTURE(toString(mode));
         Scene scene;
         const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
@@ -118,7 +118,7 @@ TEST_CASE("an occluder fully between two squares: zero transfer in every visibil
         for (const Element& e : solution->elements)
             if (e.mesh == 0) CHECK(e.radiosity.x == 0.0);
         CHECK(probeIrradiance(*solution, {0.5, 0.5, 0.0}, {0, 0, 1}).x == 0.0);
-        if (mode == VisibilityMode::Obb || mode == VisibilityMode::Exact) CHECK(solution->stats.occluded_links > 0);
+        if (mode == LinkVisibility::Obb || mode == LinkVisibility::Exact) CHECK(solution->stats.occluded_links > 0);
         // The lamp does light the slab's underside... no: the slab's top faces the lamp.
         CHECK(probeIrradiance(*solution, {0.5, 0.5, 1.1}, {0, 0, 1}).x > 0.0);
     }

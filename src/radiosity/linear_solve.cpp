@@ -1,4 +1,4 @@
-#include "radiosity/solve.h"
+#include "radiosity/linear_solve.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,105 @@
+#pragma once
+// The solver's knobs (SolverOptions, with the presets of each Quality) and what a solve
+// reports (SolveStats). The entry point is in radiosity/solver.h, the solved hierarchy in
+// radiosity/solution.h. CONTRACT between the solver and its users (bake, export, cli):
+// fields may be added; names below stay.
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/progress.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+struct PartSet;
+
+// How the solver finds a link's visibility (--visibility): the solver's policy. Rays: no
+// shafts, rays on every candidate link. Aabb, Obb, Exact: a shaft per link, whose crossing
+// parts are tested with the visibility layer's OcclusionTest (visibility/occlusion.h) None,
+// Obb (the paper's test, which can claim occlusions that are not there) or Exact
+// (conservative); rays only for the links that stay partly hidden.
+enum class LinkVisibility { Rays, Aabb, Obb, Exact };
+enum class Quality { Draft, Medium, High, Reference };
+
+// Every threshold is relative to the scene, so a scene scaled by any factor (1e-4, 1e6)
+// refines the same way:
+//   - a link (receiver R, source S) is refined while
+//       rho_R * (F_max - F_min) * B_S * A_R  >  error_threshold * P,
+//     the power it may misplace (W; max channel). P is the emitted power, sum over roots of
+//     A * (pi L_e + rho H_direct), in the first round; in later rounds the power leaving the
+//     surfaces (sum of A * B) of the receiver's light-exchange group (roots joined by links
+//     that carry light: two closed rooms are two groups, each refined as if alone). F_min is
+//     0 when the link has potential occluders; F_max/F_min are the point form factor's
+//     extremes over the receiver's sample points.
+//     (area_exponent < 1 replaces A_R by A_total (A_R / A_total)^area_exponent.)
+//   - from the second round on, a link whose receiver is at the min-area floor (below) has
+//     its source split while
+//       (F_max - F_min) * B_S  >  local_error_threshold * H_R   (rho_R > 0),
+//     H_R the receiver's mean irradiance from the last solve (an element made since reads its
+//     nearest ancestor's): the power rule scales with the receiver's area, so a sliver
+//     standing on a lit floor would otherwise gather the floor's mean, not what is near it;
+//   - an element is split only while its area exceeds min_element_area * total scene area;
+//   - direct light of punctual lights refines an element while
+//       rho * (H_max - H_min) * A > error_threshold * P.
+// The solve scales each leaf's inherited irradiance so its row sum matches the point form
+// factors averaged over it (2 x 2 Gauss points, solve.cpp): the oracle bounds power, not local error, and without
+// this closed scenes at rho = 0.99 drift by tens of percent.
+struct SolverOptions {
+    LinkVisibility visibility = LinkVisibility::Exact;
+    Quality quality = Quality::Medium;
+    double error_threshold = 2e-4;     // fraction of the emitted power a link may misplace (above)
+    double min_element_area = 1e-4;    // relative to the scene's total area
+    double iteration_tolerance = 1e-4; // stop when |E + rho K B - B| / |E| (area-weighted) is below this
+    int max_iterations = 200;          // operator applications (GMRES steps) per solve, then a warning
+
+    // Finer knobs, set by forQuality.
+    int refine_rounds = 2;             // refine-solve rounds (the first with emitted light only)
+    int quadrature_order = 3;          // Gauss points per side of a receiver cell
+    double quadrature_near_ratio = 0.5;  // cells closer to the source than this x their radius split
+    int quadrature_max_depth = 2;      // towards a touching source (the singularity is mild:
+                                       // 1e-6 relative on unit squares sharing an edge)
+    int visibility_samples = 3;        // rays per side for a partial link (n x n segments)
+    double probe_opening = 0.5;        // probes open an element when radius / distance exceeds this
+    int probe_samples = 2;             // rays per side from a probe to each element it gathers from (>= 2)
+    double probe_visibility_ratio = 0.01;  // a partly visible element (its rays disagree) is opened, below
+                                           // a leaf its polygon split, until radius / distance is below this
+    double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
+                                           // radius / distance, so a sliver of light is not lost between rays
+    double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
+    // Links start between clusters of roots (cluster.h) instead of between every pair of
+    // roots: linking in O(n log n) instead of O(n^2). Off: every facing pair of roots.
+    bool clustering = true;
+    double local_error_threshold = 0.1;   // fraction of its own irradiance a link may vary over a
+                                          // receiver (above; 0: off; needs refine_rounds >= 2)
+
+    static SolverOptions forQuality(Quality quality);  // fills every knob from a preset
+};
+
+const char* toString(LinkVisibility mode);
+const char* toString(Quality quality);
+
+struct SolveStats {
+    size_t elements = 0;
+    size_t links = 0;                 // element links + cluster links
+    size_t shafts = 0;
+    size_t occluded_links = 0;
+    size_t rays = 0;
+    int iterations = 0;               // operator applications over all rounds
+    bool converged = false;           // the last solve reached iteration_tolerance
+    size_t leaves = 0;
+    size_t roots = 0;
+    size_t candidate_links = 0;       // links the oracle evaluated
+    size_t partial_links = 0;         // final links found partly hidden (visibility < 1)
+    size_t classify_fallbacks = 0;    // links whose shaft classification failed (out of memory): kept partial
+    int rounds = 0;
+    double residual = 0.0;            // final relative residual
+    size_t element_links = 0;         // Solution::links (between elements)
+    size_t cluster_links = 0;         // Solution::cluster_links (a cluster at one end at least)
+    size_t clusters = 0;
+};
+
+struct Solution;  // defined in radiosity/solution.h
+
+}  // namespace radbake
