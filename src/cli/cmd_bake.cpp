@@ -41,6 +41,7 @@ struct BakeArgs {
     double min_area = 0.0;
     double tolerance = 0.0;
     int max_iterations = 0;
+    double max_memory_mb = 0.0;
     CLI::Option* error_threshold_option = nullptr;
     CLI::Option* local_error_threshold_option = nullptr;
     CLI::Option* min_area_option = nullptr;
@@ -80,6 +81,7 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     if (args.min_area_option->count()) solver.min_element_area = args.min_area;
     if (args.tolerance_option->count()) solver.iteration_tolerance = args.tolerance;
     if (args.max_iterations_option->count()) solver.max_iterations = args.max_iterations;
+    solver.max_memory_mb = args.max_memory_mb;
     solver.clustering = !args.no_clustering;
     const double texel_tolerance = options.lightmaps.texel_tolerance;
     options.lightmaps = args.lightmaps;
@@ -220,6 +222,11 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
             ->check(CLI::PositiveNumber);
 
+    cmd->add_option("--max-memory", args->max_memory_mb,
+                    "Stop the solve with an error when the process holds more than this many MiB (0: 3/4 of "
+                    "this machine's memory), instead of failing an allocation or being killed")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     cmd->add_flag("--no-clustering", args->no_clustering,
                   "Link every facing pair of polygons instead of starting links between clusters of them "
                   "(quadratic in the polygon count: for comparisons)");

@@ -41,8 +41,17 @@ std::string formatStatsJson(const BakeReport& r) {
     out["scene"] = r.scene;
     out["elements"] = s.elements;
     out["links"] = s.links;
+    out["element_links"] = s.element_links;
+    out["cluster_links"] = s.cluster_links;
+    out["clusters"] = s.clusters;
+    out["roots"] = s.roots;
+    out["leaves"] = s.leaves;
+    out["partial_links"] = s.partial_links;
+    out["candidate_links"] = s.candidate_links;
     out["shafts"] = s.shafts;
     out["occluded_links"] = s.occluded_links;
+    out["bytes_per_element"] = s.bytes_per_element;
+    out["bytes_per_link"] = s.bytes_per_link;
     out["rays"] = s.rays;
     out["iterations"] = s.iterations;
     out["converged"] = s.converged;
@@ -86,6 +95,7 @@ std::string formatTimingsJson(const BakeReport& r) {
     out["seconds"] = r.seconds;
     out["phases"] = mergedPhases(r.phases);
     out["peak_rss_mb"] = r.peak_rss_mb;
+    out["memory_budget_mb"] = r.solve.memory_budget_mb;  // from the machine's memory unless --max-memory
     out["threads"] = r.threads;
     return json_detail::dump(out, 2) + "\n";
 }

@@ -47,6 +47,8 @@
 //     of solve.cpp's row-sum correction, which keeps the root's power).
 #include "radiosity/cluster.h"
 
+#include "core/memory.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -694,6 +696,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
     int level = 0;
     std::vector<uint32_t> a_children, b_children;
     while (!pending.empty()) {
+        checkMemoryBudget(state_.memory_budget_mb, "linking clusters");
         s.stats.candidate_links += pending.size();
         std::vector<PendingClusterLink> next;
         // In batches: every evaluation holds its candidate list until its decision, and a

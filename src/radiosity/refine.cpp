@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/memory.h"
 #include "geometry/parts.h"
 #include "radiosity/cluster.h"
 #include "radiosity/elements.h"
@@ -219,6 +220,7 @@ void RefineState::updateThresholds() {
 RefineState makeRefineState(const Scene& scene, const PartSet& parts, const SolverOptions& options,
                             ParallelRunner& runner, Solution& solution) {
     RefineState state{.scene = scene, .parts = parts, .options = options, .runner = runner, .solution = solution};
+    state.memory_budget_mb = memoryBudgetMegabytes(options.max_memory_mb);
     state.candidate_pool.push_back(allParts(parts));
     state.root_excluded.resize(solution.root_count);
     for (uint32_t i = 0; i < solution.root_count; ++i) {
@@ -313,6 +315,7 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
     int level = 0;
     while (!pending.empty()) {
         if (state.runner.cancelled()) return;  // the solver stops after this phase
+        checkMemoryBudget(state.memory_budget_mb, "linking");
         std::vector<Evaluation> evals(pending.size());
         state.runner.forEach(pending.size(), 8, [&](size_t i) { evals[i] = evaluate(state, pending[i]); });
         s.stats.candidate_links += pending.size();

@@ -46,6 +46,7 @@ struct RefineState {
     // nearest ancestor's), the mean irradiance H (max channel, W/m^2) from the last solve.
     std::vector<double> irradiance{};
     bool local_active = false;
+    double memory_budget_mb = 0.0;  // memoryBudgetMegabytes(options.max_memory_mb)
     // After a solve: the power rule relative to the power leaving the surfaces of each
     // light-exchange group, and the local rule's irradiances from the solved hierarchy.
     void updateThresholds();

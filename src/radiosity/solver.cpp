@@ -1,8 +1,10 @@
 // solveRadiosity: roots, direct light, refine-solve rounds. The module boundary: nothing
 // thrown below escapes (reported to Diagnostics instead).
+#include <cstdio>
 #include <exception>
 #include <string>
 
+#include "core/memory.h"
 #include "geometry/parts.h"
 #include "radiosity/cluster.h"
 #include "radiosity/elements.h"
@@ -132,6 +134,16 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
         s.stats.cluster_links = s.cluster_links.size();
         s.stats.clusters = s.clusters.size();
         s.stats.links = s.links.size() + s.cluster_links.size();
+        if (!s.elements.empty())
+            s.stats.bytes_per_element =
+                static_cast<double>(s.elements.size() * sizeof(Element) + s.vertices.size() * sizeof(DVec3)) /
+                static_cast<double>(s.elements.size());
+        if (s.stats.links > 0)
+            s.stats.bytes_per_link = static_cast<double>(s.links.size() * sizeof(Link) +
+                                                         s.cluster_links.size() * sizeof(ClusterLink) +
+                                                         s.cluster_kernel.size() * sizeof(double)) /
+                                     static_cast<double>(s.stats.links);
+        s.stats.memory_budget_mb = memoryBudgetMegabytes(options.max_memory_mb);
         s.stats.leaves = 0;
         for (const Element& e : s.elements) s.stats.leaves += e.isLeaf() ? 1 : 0;
         // Counted here once, over the final links (refinement reopens and drops links).
@@ -139,6 +151,14 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
         return s;
     } catch (const Cancelled&) {
         progress.endPhase();
+    } catch (const MemoryBudgetExceeded& e) {
+        char message[256];
+        std::snprintf(message, sizeof message,
+                      "the solve stopped while %s: it holds %.0f MiB, above its memory budget of %.0f MiB "
+                      "(--max-memory; default 3/4 of this machine's memory); lower --quality or raise "
+                      "--error-threshold, or give --max-memory",
+                      e.during.c_str(), e.used_mb, e.budget_mb);
+        diagnostics.error({scene.source_path, 0, 0}, message);
     } catch (const std::exception& e) {
         diagnostics.error({scene.source_path, 0, 0}, std::string("radiosity solve failed: ") + e.what());
     } catch (...) {

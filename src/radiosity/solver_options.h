@@ -53,6 +53,8 @@ struct SolverOptions {
     double min_element_area = 1e-4;    // relative to the scene's total area
     double iteration_tolerance = 1e-4; // stop when |E + rho K B - B| / |E| (area-weighted) is below this
     int max_iterations = 200;          // operator applications (GMRES steps) per solve, then a warning
+    double max_memory_mb = 0.0;        // --max-memory: the solve stops with an error above this
+                                       // resident memory (MiB); 0: 3/4 of the machine's memory
 
     // Finer knobs, set by forQuality.
     int refine_rounds = 2;             // refine-solve rounds (the first with emitted light only)
@@ -98,6 +100,11 @@ struct SolveStats {
     size_t element_links = 0;         // Solution::links (between elements)
     size_t cluster_links = 0;         // Solution::cluster_links (a cluster at one end at least)
     size_t clusters = 0;
+    // What the solution holds, per item: an element with its polygon's share of the vertex
+    // loops; a link (element or cluster) with its share of the cluster kernels.
+    double bytes_per_element = 0.0;
+    double bytes_per_link = 0.0;
+    double memory_budget_mb = 0.0;    // the budget the solve ran under (SolverOptions::max_memory_mb)
 };
 
 struct Solution;  // defined in radiosity/solution.h
