@@ -482,3 +482,70 @@ f 4 5 6 7
     CHECK(s.triangles == 1);
     CHECK(s.bounds_max == Vec3(1, 1, 0));
 }
+
+// ---------------------------------------------------------------------------------------
+// Regressions from tools/fuzz (docs/fuzzing.md).
+
+TEST_CASE("fuzz: an OBJ whose mtllib resolves to a folder reads as a missing MTL, not a failed read") {
+    // fuzz_assimp_obj, minimized: `mtllib i\\` (plus bytes Assimp ignores). Assimp 5.2.5 tries
+    // variants of the name, one of them the OBJ's own folder; fopen opens a folder on Linux,
+    // the read fails with EISDIR, the OBJ importer throws and leaks the stream (LeakSanitizer).
+    // The reader now opens regular files only.
+    TempDir dir;
+    const std::string minimized("mtllib i\\\\\0\0\0\"\0\0", 16);
+    const std::string obj = dir.write("input.obj", minimized);
+    Diagnostics diagnostics;
+    const std::optional<Scene> scene = importScene(obj, {}, diagnostics);
+    // Nothing to bake, but a clean answer: no exception from inside Assimp reached us.
+    for (const Diagnostic& d : diagnostics.all()) {
+        CHECK(d.location.file == obj);
+        CHECK(d.message.find("exception") == std::string::npos);
+        CHECK(d.message.find("Is a directory") == std::string::npos);
+    }
+    if (scene) CHECK(scene->meshes.empty());
+
+    // A usable scene whose mtllib names a folder: the folder is never read, the mesh is kept
+    // with the default material and a warning about the MTL.
+    TempDir with_folder;
+    std::filesystem::create_directories(with_folder.path / "materials.mtl");
+    const std::string tri = with_folder.write("tri.obj", "mtllib materials.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    Diagnostics tri_diagnostics;
+    const std::optional<Scene> tri_scene = importScene(tri, {}, tri_diagnostics);
+    REQUIRE(tri_scene);
+    CHECK(tri_diagnostics.errorCount() == 0);
+    REQUIRE(tri_scene->meshes.size() == 1);
+    CHECK(totalArea(*tri_scene) == doctest::Approx(0.5));
+    CHECK(hasMessage(tri_diagnostics, Severity::Warning, "materials.mtl"));
+    for (const std::string& file : tri_scene->input_files) CHECK(std::filesystem::is_regular_file(file));
+}
+
+TEST_CASE("fuzz: a PLY header without end_header is a located error before Assimp reads it") {
+    // fuzz_assimp_ply, minimized: Assimp 5.2.5's PLY importer runs past its buffer when the
+    // header does not end (SEGV under ASan; without ASan memory can grow without bound), and
+    // hangs when end_header is the file's last bytes.
+    TempDir dir;
+    const std::string no_end("ply\nformat binary_tm\0\0", 22);
+    const std::string not_a_token("ply\nformat binary_\nend_header\x03z\n\0\x03", 34);
+    for (const std::string& text : {no_end, not_a_token, std::string("ply\nformat binary_little_endian 1.0\n"),
+                                    std::string("PLY\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\n"),
+                                    std::string("ply\nformat binary_nz\nty uchdices\nend_header")}) {
+        CAPTURE(text);
+        const std::string ply = dir.write("broken.ply", text);
+        Diagnostics diagnostics;
+        CHECK_FALSE(importScene(ply, {}, diagnostics));
+        REQUIRE(diagnostics.errorCount() == 1);
+        const Diagnostic& error = diagnostics.all().back();
+        CHECK(error.location.file == ply);
+        CHECK(error.location.line == 1);
+        CHECK(error.message.find("end_header") != std::string::npos);
+    }
+    // A complete header (ASCII, CRLF, indented end_header) still reaches Assimp and reads.
+    const std::string good = dir.write("good.ply", "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\n"
+                                                   "property float y\r\nproperty float z\r\nelement face 1\r\n"
+                                                   "property list uchar int vertex_indices\r\n  end_header\r\n"
+                                                   "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n");
+    Diagnostics diagnostics;
+    const std::optional<Scene> scene = importScene(good, {}, diagnostics);
+    REQUIRE(scene);
+    CHECK(totalArea(*scene) == doctest::Approx(0.5));
+}

@@ -16,7 +16,10 @@ TEST_CASE("the scene name is the file name without its format suffix, dots in th
         {"plain.vrml", "plain"},
         {"box.obj", "box"},
     };
-    for (const auto& [file, name] : cases) {
+    for (const auto& entry : cases) {
+        // Not a structured binding: clang 14 (the RADBAKE_FUZZ build) cannot capture one in CAPTURE.
+        const char* file = entry.first;
+        const char* name = entry.second;
         CAPTURE(file);
         const bool obj = std::string(file).ends_with(".obj");
         const std::string path = vrml_test::writeFile(dir / file, obj ? "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" : vrml);
