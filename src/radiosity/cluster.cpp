@@ -470,6 +470,7 @@ std::vector<PendingLink> ClusterRefiner::reopen(Progress& progress, bool& change
                                      error > node_threshold_[keyOf(s, link.receiver)];
         if (reopen_it) {
             pending.push_back({link.receiver, link.source, link.candidates});
+            ++s.stats.reopened_links;
             continue;
         }
         ClusterLink copy = link;
@@ -718,9 +719,10 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 s.stats.rays += ev.rays;
                 s.stats.shafts += ev.shaft ? 1 : 0;
                 if (ev.decision == Decision::Drop) {
-                    if (ev.occluded) ++s.stats.occluded_links;
+                    ++(ev.occluded ? s.stats.occluded_links : s.stats.dropped_links);
                     continue;
                 }
+                if (ev.decision != Decision::Keep) ++s.stats.split_links;
                 if (ev.decision == Decision::Keep) {
                     // Reopened, a link is classified again from its parent's list (a superset):
                     // a kept link's own list is not stored (it was most of the memory).

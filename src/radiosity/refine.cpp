@@ -330,7 +330,10 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
                 ++s.stats.occluded_links;
                 continue;
             }
-            if (ev.state == LinkState::None) continue;
+            if (ev.state == LinkState::None) {
+                ++s.stats.dropped_links;
+                continue;
+            }
             const bool partial = ev.state == LinkState::Partial;
             const double spread = ev.ff.f_max - (partial ? 0.0 : ev.ff.f_min);
             const Element& r = s.elements[link.receiver];
@@ -350,12 +353,14 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
                     const uint32_t count = ensureChildren(s, link.source);
                     const uint32_t first = s.elements[link.source].first_child;
                     for (uint32_t c = 0; c < count; ++c) next.push_back({link.receiver, first + c, list});
+                    ++s.stats.split_links;
                     continue;
                 }
                 if (split_r) {
                     const uint32_t count = ensureChildren(s, link.receiver);
                     const uint32_t first = s.elements[link.receiver].first_child;
                     for (uint32_t c = 0; c < count; ++c) next.push_back({first + c, link.source, list});
+                    ++s.stats.split_links;
                     continue;
                 }
             }
@@ -403,6 +408,7 @@ std::vector<PendingLink> reopenLinks(RefineState& state) {
             // Re-evaluated from its own pair: its own candidate list is a superset of what
             // its sub-links need.
             reopened.push_back({link.receiver, link.source, record.candidates});
+            ++s.stats.reopened_links;
             continue;
         }
         s.links[kept] = link;

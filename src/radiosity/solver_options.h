@@ -92,7 +92,15 @@ struct SolveStats {
     bool converged = false;           // the last solve reached iteration_tolerance
     size_t leaves = 0;
     size_t roots = 0;
-    size_t candidate_links = 0;       // links the oracle evaluated
+    // Every evaluation of the oracle (candidate_links) ends one way, so that
+    //   candidate_links = links + reopened_links + occluded_links + dropped_links + split_links:
+    // kept (a final link, unless a later round reopens it: reopened_links), occluded (a shaft
+    // blocker or every ray blocked), dropped (nothing to carry: facing away, zero form factor)
+    // or split into sub-links (which are candidates of their own).
+    size_t candidate_links = 0;       // evaluations of the oracle, element and cluster links
+    size_t split_links = 0;
+    size_t dropped_links = 0;
+    size_t reopened_links = 0;
     size_t partial_links = 0;         // final links found partly hidden (visibility < 1)
     size_t classify_fallbacks = 0;    // links whose shaft classification failed (out of memory): kept partial
     int rounds = 0;

@@ -83,7 +83,8 @@ TEST_CASE("timings.json holds the wall time, phases, peak memory and threads, an
     CHECK(order == std::vector<std::string>{"import", "links", "solve", "elements", "write"});
     CHECK(json.at("peak_rss_mb").get<double>() == 12.5);
     CHECK(json.at("threads").get<double>() == 2);
-    CHECK(json.size() == 6);
+    CHECK(json.at("memory_budget_mb").get<double>() == report.solve.memory_budget_mb);
+    CHECK(json.size() == 7);
 }
 
 TEST_CASE("stats.json reports the lightmap stage only when it ran") {

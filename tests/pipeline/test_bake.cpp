@@ -301,3 +301,19 @@ static_assert(std::is_same_v<decltype(&bakeLightmaps),
                                       Diagnostics&, Progress*)>);
 static_assert(std::is_same_v<decltype(&writeBake),
                              bool (*)(const Bake&, const std::filesystem::path&, Diagnostics&, WrittenBake*)>);
+
+TEST_CASE("a bake over its memory budget stops with an error naming the budget, and writes nothing") {
+    BakeOptions options = draftOptions(2);
+    options.solver.max_memory_mb = 1.0;  // below any process's resident memory
+    Progress progress(false);
+    Diagnostics diagnostics;
+    const Bake over = bake(litRoom(), options, progress, diagnostics);
+    CHECK_FALSE(over.ok());
+    REQUIRE(diagnostics.hasErrors());
+    const std::string message = diagnostics.all().back().message;
+    CHECK(message.find("memory budget of 1 MiB") != std::string::npos);
+    CHECK(message.find("--max-memory") != std::string::npos);
+    // The default budget is the machine's: a bake well within it runs.
+    options.solver.max_memory_mb = 0.0;
+    CHECK(bakeQuietly(litRoom(), options).ok());
+}
