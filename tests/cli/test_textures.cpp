@@ -1,7 +1,8 @@
 // Source UVs and material textures, end to end on tiny literal files written here (issue 14,
-// "keep the asset"): the texture sets the reflectance the solve uses, a missing texture is one
-// warning and still a dependency.
+// "keep the asset"): the texture sets the reflectance the solve uses, the glb keeps the UVs
+// and embeds the images, a missing texture is one warning and still a dependency.
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -12,6 +13,9 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC  // private copies for the tests
 #include <stb/stb_image_write.h>
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#include <stb/stb_image.h>
 
 #include "cli_support.h"
 #include "radbake.h"
@@ -67,6 +71,36 @@ const Diagnostic* findMessage(const Diagnostics& diagnostics, const std::string&
         if (d.message.find(part) != std::string::npos) return &d;
     return nullptr;
 }
+
+// A glb's JSON and BIN chunk.
+struct Glb {
+    nlohmann::json root;
+    std::string bin;
+
+    explicit Glb(const std::string& bytes) {
+        REQUIRE(bytes.size() >= 20);
+        uint32_t json_length = 0, bin_length = 0;
+        std::memcpy(&json_length, bytes.data() + 12, 4);
+        root = nlohmann::json::parse(bytes.substr(20, json_length));
+        const size_t bin_at = 20 + json_length;
+        REQUIRE(bytes.size() >= bin_at + 8);
+        std::memcpy(&bin_length, bytes.data() + bin_at, 4);
+        bin = bytes.substr(bin_at + 8, bin_length);
+    }
+    std::string viewBytes(size_t view_index) const {
+        const nlohmann::json& view = root["bufferViews"][view_index];
+        return bin.substr(view.value("byteOffset", size_t{0}), view["byteLength"].get<size_t>());
+    }
+    std::vector<float> floats(size_t accessor_index) const {
+        const nlohmann::json& accessor = root["accessors"][accessor_index];
+        const std::string bytes = viewBytes(accessor["bufferView"].get<size_t>());
+        const size_t components = accessor["type"] == "VEC2" ? 2 : 3;
+        std::vector<float> out(accessor["count"].get<size_t>() * components);
+        REQUIRE(bytes.size() >= out.size() * 4);
+        std::memcpy(out.data(), bytes.data(), out.size() * 4);
+        return out;
+    }
+};
 
 // A floor quad (two polygons side by side, x in [0, 2]) under a lamp, with UVs given here.
 void writeFloorScene(const fs::path& dir, const std::string& floor_texture, const std::string& more_mtl = "") {
@@ -143,6 +177,63 @@ TEST_CASE("textures: a half-black, half-white map_Kd gives the two polygons it c
     CHECK(roots >= 2);
 }
 
+TEST_CASE("textures: the glb keeps the source UVs in TEXCOORD_0, the lightmap's in TEXCOORD_1, and embeds the PNG") {
+    const TempDir tmp;
+    writePng(tmp.path / "half.png", 2, 1, 3, {0, 0, 0, 255, 255, 255});
+    writeFloorScene(tmp.path, "half.png");
+    // Where each floor vertex is (x, z) -> its source UV in glTF's convention (u, 1 - v).
+    const std::vector<std::pair<Vec2, Vec2>> expected = {{{0, 0}, {0, 0.75f}},   {{1, 0}, {0.5f, 0.75f}},
+                                                         {{2, 0}, {1, 0.75f}},   {{2, 1}, {1, 0.25f}},
+                                                         {{1, 1}, {0.5f, 0.25f}}, {{0, 1}, {0, 0.25f}}};
+    for (const bool lightmaps : {false, true}) {
+        CAPTURE(lightmaps);
+        const fs::path out = tmp.path / (lightmaps ? "with" : "without");
+        const RunResult run = runRadbake("bake " + quote(tmp.path / "floor.obj") + " -o " + quote(out) +
+                                         " --quality draft -q" + (lightmaps ? "" : " --no-lightmaps"));
+        INFO(run.output);
+        REQUIRE(run.exit_code == 0);
+        const Glb glb(readBytes(out / "floor.glb"));
+        // The floor material's base colour texture is the PNG, byte for byte, through texCoord 0.
+        const nlohmann::json* floor_material = nullptr;
+        for (const auto& material : glb.root["materials"])
+            if (material["name"] == "floor") floor_material = &material;
+        REQUIRE(floor_material);
+        const nlohmann::json& info = (*floor_material)["pbrMetallicRoughness"]["baseColorTexture"];
+        CHECK(info.value("texCoord", 0) == 0);
+        const nlohmann::json& texture = glb.root["textures"][info["index"].get<size_t>()];
+        const nlohmann::json& image = glb.root["images"][texture["source"].get<size_t>()];
+        CHECK(image["mimeType"] == "image/png");
+        CHECK(glb.viewBytes(image["bufferView"].get<size_t>()) == readBytes(tmp.path / "half.png"));
+        CHECK(glb.root["samplers"][texture["sampler"].get<size_t>()]["wrapS"] == 10497);
+
+        size_t floor_vertices = 0;
+        for (const auto& mesh : glb.root["meshes"])
+            for (const auto& primitive : mesh["primitives"]) {
+                const auto& attributes = primitive["attributes"];
+                if (glb.root["materials"][primitive["material"].get<size_t>()]["name"] != "floor") continue;
+                REQUIRE(attributes.contains("TEXCOORD_0"));
+                CHECK(attributes.contains("TEXCOORD_1") == lightmaps);
+                if (lightmaps) CHECK(attributes["TEXCOORD_0"] != attributes["TEXCOORD_1"]);
+                const std::vector<float> positions = glb.floats(attributes["POSITION"].get<size_t>());
+                const std::vector<float> uv0 = glb.floats(attributes["TEXCOORD_0"].get<size_t>());
+                REQUIRE(uv0.size() / 2 == positions.size() / 3);
+                for (size_t v = 0; v < uv0.size() / 2; ++v) {
+                    const Vec2 xz(positions[3 * v], positions[3 * v + 2]);
+                    bool found = false;
+                    for (const auto& [where, uv] : expected)
+                        if (glm::distance(where, xz) < 1e-6f) {
+                            found = true;
+                            CHECK(uv0[2 * v] == doctest::Approx(uv.x).epsilon(1e-6));
+                            CHECK(uv0[2 * v + 1] == doctest::Approx(uv.y).epsilon(1e-6));
+                        }
+                    CHECK(found);
+                    ++floor_vertices;
+                }
+            }
+        CHECK(floor_vertices >= 6);
+    }
+}
+
 TEST_CASE("textures: a missing map_Kd is one located warning, the material's colour, and a dependency") {
     const TempDir tmp;
     writeFloorScene(tmp.path, "missing.png");
@@ -164,6 +255,9 @@ TEST_CASE("textures: a missing map_Kd is one located warning, the material's col
     REQUIRE(run.exit_code == 0);
     const std::string text = readBytes(dep);
     CHECK(text.substr(text.find(": ")).find((tmp.path / "missing.png").string()) != std::string::npos);
+    // The glb names no texture it could not read.
+    const Glb glb(readBytes(tmp.path / "out" / "floor.glb"));
+    CHECK_FALSE(glb.root.contains("images"));
 }
 
 TEST_CASE("textures: VRML97 ImageTexture, RGB replaces diffuseColor and intensity modulates it; UVs by texCoordIndex") {
@@ -260,3 +354,66 @@ TEST_CASE("textures: map_Ke times Ke is each polygon's emission") {
     CHECK(scene->meshes[0].polygon_reflectance.empty());
 }
 
+TEST_CASE("textures: a normal map is embedded with per-vertex tangents along +u; a PPM is re-encoded to PNG") {
+    const TempDir tmp;
+    writePng(tmp.path / "half.png", 2, 1, 3, {0, 0, 0, 255, 255, 255});
+    writePng(tmp.path / "flat.png", 1, 1, 3, {128, 128, 255});
+    writeText(tmp.path / "glow.ppm", std::string("P6\n1 1\n255\n") + "\xff\x80\x40");
+    writeFloorScene(tmp.path, "half.png", "norm flat.png\nKe 1 1 1\nmap_Ke glow.ppm\n");
+    const fs::path out = tmp.path / "out";
+    const RunResult run = runRadbake("bake " + quote(tmp.path / "floor.obj") + " -o " + quote(out) + " --quality draft -q");
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const Glb glb(readBytes(out / "floor.glb"));
+    const nlohmann::json* floor_material = nullptr;
+    size_t floor_index = 0;
+    for (size_t i = 0; i < glb.root["materials"].size(); ++i)
+        if (glb.root["materials"][i]["name"] == "floor") {
+            floor_material = &glb.root["materials"][i];
+            floor_index = i;
+        }
+    REQUIRE(floor_material);
+    const auto imageOf = [&](const nlohmann::json& info) {
+        return glb.root["images"][glb.root["textures"][info["index"].get<size_t>()]["source"].get<size_t>()];
+    };
+    const nlohmann::json normal_image = imageOf((*floor_material)["normalTexture"]);
+    CHECK(glb.viewBytes(normal_image["bufferView"].get<size_t>()) == readBytes(tmp.path / "flat.png"));
+    // The PPM becomes a PNG of the same pixel (no colour conversion on the way).
+    const nlohmann::json emissive_image = imageOf((*floor_material)["emissiveTexture"]);
+    CHECK(emissive_image["mimeType"] == "image/png");
+    const std::string png = glb.viewBytes(emissive_image["bufferView"].get<size_t>());
+    int width = 0, height = 0, channels = 0;
+    unsigned char* pixels = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
+                                                  static_cast<int>(png.size()), &width, &height, &channels, 3);
+    REQUIRE(pixels);
+    CHECK(width == 1);
+    CHECK(height == 1);
+    CHECK(std::vector<int>(pixels, pixels + 3) == std::vector<int>{0xff, 0x80, 0x40});
+    stbi_image_free(pixels);
+
+    size_t checked = 0;
+    for (const auto& mesh : glb.root["meshes"])
+        for (const auto& primitive : mesh["primitives"]) {
+            if (primitive["material"].get<size_t>() != floor_index) {
+                CHECK_FALSE(primitive["attributes"].contains("TANGENT"));  // the lamp has no normal map
+                continue;
+            }
+            REQUIRE(primitive["attributes"].contains("TANGENT"));
+            const nlohmann::json& accessor = glb.root["accessors"][primitive["attributes"]["TANGENT"].get<size_t>()];
+            CHECK(accessor["type"] == "VEC4");
+            // u grows along +x; glTF's v (down the image) along -z, so the bitangent
+            // cross(+y, +x) = -z keeps w = +1.
+            const std::string bytes = glb.viewBytes(accessor["bufferView"].get<size_t>());
+            std::vector<float> values(accessor["count"].get<size_t>() * 4);
+            REQUIRE(bytes.size() >= values.size() * 4);
+            std::memcpy(values.data(), bytes.data(), values.size() * 4);
+            for (size_t v = 0; v < values.size() / 4; ++v) {
+                CHECK(values[4 * v] == doctest::Approx(1.0).epsilon(1e-6));
+                CHECK(values[4 * v + 1] == doctest::Approx(0.0).epsilon(1e-6));
+                CHECK(values[4 * v + 2] == doctest::Approx(0.0).epsilon(1e-6));
+                CHECK(values[4 * v + 3] == 1.0f);
+                ++checked;
+            }
+        }
+    CHECK(checked >= 6);
+}
