@@ -245,10 +245,11 @@ std::string fileBytes(const std::string& path) {
 
 // The texture index of `path`, adding its image on first use; -1 when it cannot be read (the
 // import warned already).
-int textureIndex(TextureTable& table, JsonLists& lists, std::string& bin, const std::string& path) {
+int textureIndex(TextureTable& table, JsonLists& lists, std::string& bin, const TextureRef& texture) {
+    const std::string& path = texture.path;
     if (path.empty()) return -1;
     if (const auto it = table.index.find(path); it != table.index.end()) return it->second;
-    std::string bytes = fileBytes(path);
+    std::string bytes = texture.embedded ? *texture.embedded : fileBytes(path);
     std::string mime;
     if (bytes.size() >= 8 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0) {
         mime = "image/png";
@@ -258,7 +259,7 @@ int textureIndex(TextureTable& table, JsonLists& lists, std::string& bin, const 
         int width = 0, height = 0;
         std::vector<uint8_t> rgba;
         std::string error;
-        bytes = readImageRgba8(path, width, height, rgba, error) ? encodeRgba8Png(width, height, rgba) : std::string();
+        bytes = readImageRgba8(texture, width, height, rgba, error) ? encodeRgba8Png(width, height, rgba) : std::string();
         mime = "image/png";
     }
     if (bytes.empty()) return table.index[path] = -1;
@@ -289,15 +290,15 @@ GltfJson materialJson(const Material& material, bool textured, TextureTable& tex
         json["emissiveFactor"] = vec3Json(emission);
     }
     if (!textured) return json;
-    if (const int base = textureIndex(textures, lists, bin, material.base_color_texture.path); base >= 0) {
+    if (const int base = textureIndex(textures, lists, bin, material.base_color_texture); base >= 0) {
         json["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", base}};
         // glTF multiplies texture and factor; a VRML97 RGB texture replaces the colour.
-        if (material.base_color_texture.rgb_replaces && imageChannels(material.base_color_texture.path) >= 3)
+        if (material.base_color_texture.rgb_replaces && imageChannels(material.base_color_texture) >= 3)
             json["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
     }
-    if (const int emissive = textureIndex(textures, lists, bin, material.emissive_texture.path); emissive >= 0)
+    if (const int emissive = textureIndex(textures, lists, bin, material.emissive_texture); emissive >= 0)
         json["emissiveTexture"] = {{"index", emissive}};
-    if (const int normal = textureIndex(textures, lists, bin, material.normal_texture.path); normal >= 0)
+    if (const int normal = textureIndex(textures, lists, bin, material.normal_texture); normal >= 0)
         json["normalTexture"] = {{"index", normal}};
     return json;
 }

@@ -10,8 +10,9 @@
 // Source UVs (Mesh::uv0) are TEXCOORD_0, in glTF's convention (v down: (u, 1 - v) of the
 // source's v-up UVs). A material whose meshes all have them carries its textures: base colour
 // (baseColorFactor 1 for a VRML97 RGB texture, which replaces the colour), emissive and
-// normal map, each an image embedded in the BIN chunk (PNG and JPEG as the file's bytes,
-// other formats re-encoded to PNG), one texture per image and one repeating sampler.
+// normal map, each an image embedded in the BIN chunk (PNG and JPEG as the file's bytes, or
+// the bytes the source model embedded; other formats re-encoded to PNG), one texture per image
+// and one repeating sampler; normal-mapped primitives carry TANGENT.
 //
 // With lightmaps (GltfOptions::lightmaps), a mesh that has charts is written from its
 // LightmapMesh instead (vertices split at chart seams), as one primitive per atlas it uses,

@@ -3,6 +3,7 @@
 // Everything is in world space, in metres (after --unit-scale), with radiometric
 // quantities as DESIGN.md section 2 defines them.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,9 @@ namespace radbake {
 struct TextureRef {
     std::string path;
     SourceLocation location;
+    // The image file's bytes when the model file holds them (glb, FBX): `path` then only names
+    // it in messages ("scene.glb#*0") and is no file of its own.
+    std::shared_ptr<const std::string> embedded;
     // VRML97: an RGB(A) texture replaces the colour, an intensity (1- or 2-channel) one
     // modulates it. Otherwise (MTL, glTF, VRML 1.0 Texture2) texture times colour.
     bool rgb_replaces = false;

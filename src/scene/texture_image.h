@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "scene/scene.h"
 
 namespace radbake {
 
@@ -25,15 +26,16 @@ struct TextureImage {
 // Decodes an image into linear values: 8- and 16-bit colour channels are decoded from sRGB
 // when `srgb` (colour textures; normal maps are data), HDR files are linear already; alpha
 // is never sRGB. nullopt with `error` set when the file cannot be read or decoded.
-std::optional<TextureImage> readTextureImage(const std::string& path, bool srgb, std::string& error);
+// The image is the file at texture.path, or texture.embedded when set.
+std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error);
 
 // The image as 8-bit RGBA bytes as stored (no colour conversion; HDR is mapped by stb_image's
 // default 1/2.2 gamma), for re-encoding to PNG. False with `error` set when it cannot be read.
-bool readImageRgba8(const std::string& path, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error);
+bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error);
 
 // The channel count the file holds (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), 0 when it
 // cannot be read: cheap, it reads the header only.
-int imageChannels(const std::string& path);
+int imageChannels(const TextureRef& texture);
 
 // sRGB transfer function (IEC 61966-2-1), encoded in [0, 1] -> linear.
 float srgbToLinear(float encoded);

@@ -145,12 +145,12 @@ void noteInput(Scene& scene, const std::string& path) {
 void applyTextures(Scene& scene, Diagnostics& diagnostics) {
     // Every texture once, in the order materials name them.
     std::vector<std::pair<std::string, Role>> images;
-    std::map<std::string, SourceLocation> first_named;
+    std::map<std::string, TextureRef> first_named;
     for (const Material& material : scene.materials) {
         for (const TextureRef* ref : {&material.base_color_texture, &material.emissive_texture, &material.normal_texture}) {
             if (ref->empty()) continue;
-            noteInput(scene, ref->path);
-            first_named.try_emplace(ref->path, ref->location);
+            if (!ref->embedded) noteInput(scene, ref->path);  // an embedded one is in the model file
+            first_named.try_emplace(ref->path, *ref);
         }
         if (!material.base_color_texture.empty()) images.emplace_back(material.base_color_texture.path, Role::BaseColour);
         if (!material.emissive_texture.empty()) images.emplace_back(material.emissive_texture.path, Role::Emissive);
@@ -162,11 +162,12 @@ void applyTextures(Scene& scene, Diagnostics& diagnostics) {
     for (const auto& [path, role] : images) {
         if (failed.count(path)) continue;
         std::string error;
-        const std::optional<TextureImage> image = readTextureImage(path, true, error);
+        const TextureRef& ref = first_named[path];
+        const std::optional<TextureImage> image = readTextureImage(ref, true, error);
         if (!image) {
             std::error_code ec;
-            const bool exists = std::filesystem::is_regular_file(path, ec);
-            diagnostics.warning(first_named[path], "cannot read texture '" + path + "' (" +
+            const bool exists = ref.embedded || std::filesystem::is_regular_file(path, ec);
+            diagnostics.warning(ref.location, "cannot read texture '" + path + "' (" +
                                                        (exists ? error : std::string("no such file")) +
                                                        "); the material's own colour is used");
             failed.insert(path);
@@ -178,7 +179,9 @@ void applyTextures(Scene& scene, Diagnostics& diagnostics) {
     for (const Material& material : scene.materials) {
         const std::string& path = material.normal_texture.path;
         std::error_code ec;
-        if (path.empty() || failed.count(path) || std::filesystem::is_regular_file(path, ec)) continue;
+        if (path.empty() || material.normal_texture.embedded || failed.count(path) ||
+            std::filesystem::is_regular_file(path, ec))
+            continue;
         diagnostics.warning(material.normal_texture.location, "cannot read normal map '" + path + "' (no such file); not written");
         failed.insert(path);
     }

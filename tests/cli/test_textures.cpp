@@ -417,3 +417,34 @@ TEST_CASE("textures: a normal map is embedded with per-vertex tangents along +u;
         }
     CHECK(checked >= 6);
 }
+
+TEST_CASE("textures: a glb's embedded texture is read from the glb: radbake's own output baked again") {
+    const TempDir tmp;
+    writePng(tmp.path / "half.png", 2, 1, 3, {0, 0, 0, 255, 255, 255});
+    writeFloorScene(tmp.path, "half.png");
+    const RunResult run = runRadbake("bake " + quote(tmp.path / "floor.obj") + " -o " + quote(tmp.path / "out") +
+                                     " --quality draft --no-lightmaps -q");
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const std::string glb = (tmp.path / "out" / "floor.glb").string();
+    Diagnostics diagnostics;
+    const std::optional<Scene> scene = importScene(glb, {}, diagnostics);
+    REQUIRE(scene);
+    CHECK(countMessages(diagnostics, Severity::Warning, "texture") == 0);
+    const Mesh* floor = nullptr;
+    for (const Mesh& mesh : scene->meshes)
+        if (scene->materials[mesh.material].name == "floor") floor = &mesh;
+    REQUIRE(floor);
+    const TextureRef& texture = scene->materials[floor->material].base_color_texture;
+    REQUIRE(texture.embedded);
+    CHECK(*texture.embedded == readBytes(tmp.path / "half.png"));
+    // glTF's v-down UVs come back v up, so the same halves: black times 0.8 and white times 0.8
+    // (each quad is two triangles in a glb, so two polygons).
+    REQUIRE(floor->polygon_reflectance.size() == 4);
+    std::vector<float> red;
+    for (const Vec3& rho : floor->polygon_reflectance) red.push_back(rho.x);
+    std::sort(red.begin(), red.end());
+    CHECK(red == std::vector<float>{0.0f, 0.0f, 0.8f, 0.8f});
+    // The texture is inside the glb: no other input.
+    CHECK(scene->input_files == std::vector<std::string>{fs::path(glb).lexically_normal().string()});
+}
