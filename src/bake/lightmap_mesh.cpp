@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <map>
+#include <tuple>
 #include <utility>
 
 namespace radbake {
@@ -35,6 +36,12 @@ Vec3 interpolateSource(const LightmapMesh& mesh, size_t v, std::span<const Vec3>
     return w.x * per_source_vertex[corners.x] + w.y * per_source_vertex[corners.y] + w.z * per_source_vertex[corners.z];
 }
 
+Vec2 interpolateSource(const LightmapMesh& mesh, size_t v, std::span<const Vec2> per_source_vertex) {
+    const UVec3& corners = mesh.source_corners[v];
+    const Vec3& w = mesh.barycentric[v];
+    return w.x * per_source_vertex[corners.x] + w.y * per_source_vertex[corners.y] + w.z * per_source_vertex[corners.z];
+}
+
 std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayout& layout) {
     std::vector<LightmapMesh> meshes(scene.meshes.size());
     for (const LightmapChart& chart : layout.charts) {
@@ -43,19 +50,26 @@ std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayou
         LightmapMesh& out = meshes[chart.mesh];
         // Faces of one chart share corners: the same plane point is one vertex (points
         // computed from the same float position are bit-identical).
-        std::map<std::pair<double, double>, uint32_t> ids;
+        // With source UVs the key also holds the source UV there, so a seam of the source UVs
+        // inside a chart splits the vertex too.
+        std::map<std::tuple<double, double, float, float>, uint32_t> ids;
         const Mesh& source = scene.meshes[chart.mesh];
+        const bool has_uv = source.uv0.size() == source.positions.size();
         const auto vertex = [&](const DVec2& p, const ChartFace& face) {
             const uint32_t triangle = face.triangle;
-            const auto [it, added] = ids.emplace(std::make_pair(p.x, p.y), static_cast<uint32_t>(out.positions.size()));
+            const DVec3 p_world = face.worldPoint(p);  // on its own face: charts may bend
+            const UVec3 corners = source.triangles[triangle];
+            const Vec3 weights = barycentricOf(p_world, DVec3(source.positions[corners.x]),
+                                               DVec3(source.positions[corners.y]), DVec3(source.positions[corners.z]));
+            const Vec2 uv = has_uv ? weights.x * source.uv0[corners.x] + weights.y * source.uv0[corners.y] +
+                                         weights.z * source.uv0[corners.z]
+                                   : Vec2(0.0f);
+            const auto [it, added] =
+                ids.emplace(std::make_tuple(p.x, p.y, uv.x, uv.y), static_cast<uint32_t>(out.positions.size()));
             if (added) {
                 const DVec2 texel = chart.atlasTexel(p);
-                const DVec3 p_world = face.worldPoint(p);  // on its own face: charts may bend
-                const UVec3 corners = source.triangles[triangle];
                 out.source_corners.push_back(corners);
-                out.barycentric.push_back(barycentricOf(p_world, DVec3(source.positions[corners.x]),
-                                                        DVec3(source.positions[corners.y]),
-                                                        DVec3(source.positions[corners.z])));
+                out.barycentric.push_back(weights);
                 out.positions.push_back(Vec3(p_world));
                 out.uv.push_back(Vec2(static_cast<float>(texel.x / atlas.width), static_cast<float>(texel.y / atlas.height)));
                 out.atlas.push_back(chart.atlas);

@@ -1,7 +1,8 @@
 #pragma once
 // The scene's geometry re-expressed for the lightmap UV set (TEXCOORD_1): each chart face
 // becomes a fan of triangles over vertices of its own chart, so vertices are split at chart
-// seams and at the cuts of split charts, as a second UV set requires.
+// seams, at the cuts of split charts and at seams of the source UVs (Mesh::uv0), as a second
+// UV set requires.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -24,8 +25,9 @@ struct LightmapMesh {
     std::vector<Vec3> barycentric;         // weights of those corners, summing to 1
 };
 
-// The source attribute (one value per source vertex) at lightmap vertex v.
+// The source attribute (one value per source vertex: baked value, normal, UV) at lightmap vertex v.
 Vec3 interpolateSource(const LightmapMesh& mesh, size_t v, std::span<const Vec3> per_source_vertex);
+Vec2 interpolateSource(const LightmapMesh& mesh, size_t v, std::span<const Vec2> per_source_vertex);
 
 // One LightmapMesh per scene mesh (empty for meshes without charts). Charts must be placed.
 std::vector<LightmapMesh> lightmapMeshes(const Scene& scene, const LightmapLayout& layout);

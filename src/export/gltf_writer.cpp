@@ -4,11 +4,16 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <map>
 
 #include "export/json_detail.h"
 #include "export/mesh_attributes.h"
 #include "export/output_transaction.h"
+#include "export/preview.h"
+#include "scene/texture_image.h"
 
 namespace radbake {
 
@@ -89,13 +94,56 @@ int addVec2Accessor(JsonLists& lists, std::string& bin, const std::vector<Vec2>&
                        GltfJson::array({hi.x, hi.y}));
 }
 
-// One triangle primitive's accessors and JSON; `uv` (the lightmap UVs) may be null.
+// glTF's UVs run v down from the image's top row; the scene's (OBJ's, VRML's) run v up.
+Vec2 gltfUv(const Vec2& uv) { return Vec2(uv.x, 1.0f - uv.y); }
+
+std::vector<Vec2> gltfUvs(const std::vector<Vec2>& uv) {
+    std::vector<Vec2> out(uv.size());
+    std::transform(uv.begin(), uv.end(), out.begin(), gltfUv);
+    return out;
+}
+
+// Per-vertex tangents (xyz unit, w = +-1 the bitangent's sign) from the UVs, as glTF defines
+// them for a normal map: without them a loader makes its own, which need not match (the
+// validator warns). Per triangle dP/du summed per vertex (Lengyel), made orthogonal to the
+// normal; a vertex whose UVs give no direction gets any unit vector orthogonal to it.
+std::vector<Vec4> tangents(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                           const std::vector<Vec2>& uv, const std::vector<UVec3>& triangles) {
+    std::vector<DVec3> along_u(positions.size(), DVec3(0.0)), along_v(positions.size(), DVec3(0.0));
+    for (const UVec3& t : triangles) {
+        const DVec3 e1 = DVec3(positions[t.y]) - DVec3(positions[t.x]), e2 = DVec3(positions[t.z]) - DVec3(positions[t.x]);
+        const DVec2 d1 = DVec2(uv[t.y]) - DVec2(uv[t.x]), d2 = DVec2(uv[t.z]) - DVec2(uv[t.x]);
+        const double det = d1.x * d2.y - d2.x * d1.y;
+        if (!(std::abs(det) > 0.0)) continue;
+        const DVec3 u = (e1 * d2.y - e2 * d1.y) / det, v = (e2 * d1.x - e1 * d2.x) / det;
+        for (int k = 0; k < 3; ++k) {
+            along_u[t[k]] += u;
+            along_v[t[k]] += v;
+        }
+    }
+    std::vector<Vec4> out(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const DVec3 n(normals[i]);
+        DVec3 t = along_u[i] - n * glm::dot(n, along_u[i]);
+        if (!(glm::length(t) > 1e-12)) t = glm::cross(n, std::abs(n.x) < 0.9 ? DVec3(1, 0, 0) : DVec3(0, 1, 0));
+        t = glm::normalize(t);
+        const double w = glm::dot(glm::cross(n, t), along_v[i]) < 0.0 ? -1.0 : 1.0;
+        out[i] = Vec4(Vec3(t), static_cast<float>(w));
+    }
+    return out;
+}
+
+// One triangle primitive's accessors and JSON; `uv` (the lightmap UVs) and `source_uv` (the
+// mesh's own, in glTF's convention) may be null; `with_tangents` (a normal-mapped material)
+// adds TANGENT from `source_uv`.
 struct PrimitiveData {
     const std::vector<Vec3>& positions;
     const std::vector<Vec3>& normals;
     const std::vector<Vec3>& colors;
     const std::vector<Vec2>* uv;
     const std::vector<UVec3>& triangles;
+    const std::vector<Vec2>* source_uv = nullptr;
+    bool with_tangents = false;
 };
 
 // `material` < 0: none; `extras` is written when not null.
@@ -110,13 +158,27 @@ GltfJson primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& 
     const int color = addVec3Accessor(lists, bin, clamped, false);
     const int light = addVec3Accessor(lists, bin, data.colors, false);
     const int uv = data.uv ? addVec2Accessor(lists, bin, *data.uv) : -1;
+    const int source_uv = data.source_uv ? addVec2Accessor(lists, bin, *data.source_uv) : -1;
+    int tangent = -1;
+    if (data.source_uv && data.with_tangents) {
+        const std::vector<Vec4> values = tangents(data.positions, data.normals, *data.source_uv, data.triangles);
+        const size_t offset = bin.size();
+        append(bin, values);
+        tangent = addAccessor(lists, addView(lists, offset, values.size() * sizeof(Vec4), kArrayBuffer), kFloat,
+                              values.size(), "VEC4");
+    }
     const size_t index_offset = bin.size();
     append(bin, data.triangles);  // UVec3 = three packed uint32
     const int index_view = addView(lists, index_offset, data.triangles.size() * sizeof(UVec3), kElementArrayBuffer);
     const int indices = addAccessor(lists, index_view, kUnsignedInt, data.triangles.size() * 3, "SCALAR");
     GltfJson attributes = {{"POSITION", position}, {"NORMAL", normal}, {"COLOR_0", color}, {"_RADBAKE_LIGHT", light}};
-    // Both UV sets share one accessor (see the header: radbake has no material UVs).
-    if (uv >= 0) {
+    // The source UVs are set 0 (what the materials' textures use), the lightmap's set 1.
+    // Without source UVs both sets share the lightmap accessor: glTF numbers sets from 0.
+    if (tangent >= 0) attributes["TANGENT"] = tangent;
+    if (source_uv >= 0) {
+        attributes["TEXCOORD_0"] = source_uv;
+        if (uv >= 0) attributes["TEXCOORD_1"] = uv;
+    } else if (uv >= 0) {
         attributes["TEXCOORD_0"] = uv;
         attributes["TEXCOORD_1"] = uv;
     }
@@ -129,12 +191,13 @@ GltfJson primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& 
 // The vertices of `lightmap_mesh` on atlas `atlas`, renumbered in order of first use.
 struct AtlasPart {
     std::vector<Vec3> positions, normals, colors;
-    std::vector<Vec2> uv;
+    std::vector<Vec2> uv, source_uv;
     std::vector<UVec3> triangles;
 };
 
+// `source_uv`: per lightmap vertex, or empty.
 AtlasPart atlasPart(const LightmapMesh& lightmap_mesh, int atlas, const std::vector<Vec3>& normals,
-                    const std::vector<Vec3>& colors) {
+                    const std::vector<Vec3>& colors, const std::vector<Vec2>& source_uv) {
     AtlasPart part;
     std::vector<uint32_t> renumbered(lightmap_mesh.positions.size(), UINT32_MAX);
     for (const UVec3& t : lightmap_mesh.triangles) {
@@ -148,6 +211,7 @@ AtlasPart atlasPart(const LightmapMesh& lightmap_mesh, int atlas, const std::vec
                 part.normals.push_back(normals[t[k]]);
                 part.colors.push_back(colors[t[k]]);
                 part.uv.push_back(lightmap_mesh.uv[t[k]]);
+                if (!source_uv.empty()) part.source_uv.push_back(source_uv[t[k]]);
             }
             out[k] = index;
         }
@@ -165,7 +229,52 @@ std::vector<int> atlasesUsed(const LightmapMesh& lightmap_mesh) {
     return atlases;
 }
 
-GltfJson materialJson(const Material& material, bool& uses_strength) {
+// The material textures in the glb: one image per file (PNG and JPEG embedded as they are,
+// any other format re-encoded to PNG), one texture each, one sampler (repeat, as the bake
+// sampled them).
+struct TextureTable {
+    std::map<std::string, int> index;  // path -> texture index; -1 when the file cannot be read
+    GltfJson images = GltfJson::array(), textures = GltfJson::array();
+};
+
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return {};
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The texture index of `path`, adding its image on first use; -1 when it cannot be read (the
+// import warned already).
+int textureIndex(TextureTable& table, JsonLists& lists, std::string& bin, const TextureRef& texture) {
+    const std::string& path = texture.path;
+    if (path.empty()) return -1;
+    if (const auto it = table.index.find(path); it != table.index.end()) return it->second;
+    std::string bytes = texture.embedded ? *texture.embedded : fileBytes(path);
+    std::string mime;
+    if (bytes.size() >= 8 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0) {
+        mime = "image/png";
+    } else if (bytes.size() >= 3 && bytes.compare(0, 3, "\xff\xd8\xff") == 0) {
+        mime = "image/jpeg";
+    } else {
+        int width = 0, height = 0;
+        std::vector<uint8_t> rgba;
+        std::string error;
+        bytes = readImageRgba8(texture, width, height, rgba, error) ? encodeRgba8Png(width, height, rgba) : std::string();
+        mime = "image/png";
+    }
+    if (bytes.empty()) return table.index[path] = -1;
+    const size_t offset = bin.size();
+    bin += bytes;
+    bin.resize((bin.size() + 3) / 4 * 4, '\0');  // the next accessor stays 4-byte aligned
+    lists.buffer_views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes.size()}});
+    table.images.push_back({{"bufferView", lists.buffer_views.size() - 1}, {"mimeType", mime}});
+    table.textures.push_back({{"sampler", 0}, {"source", table.images.size() - 1}});
+    return table.index[path] = static_cast<int>(table.textures.size()) - 1;
+}
+
+// `textured`: every mesh using the material has source UVs, so its textures (TEXCOORD_0) apply.
+GltfJson materialJson(const Material& material, bool textured, TextureTable& textures, JsonLists& lists,
+                      std::string& bin, bool& uses_strength) {
     const Vec3 rho = glm::clamp(material.reflectance, Vec3(0.0f), Vec3(1.0f));
     GltfJson json = {{"name", material.name},
                      {"pbrMetallicRoughness",
@@ -180,6 +289,17 @@ GltfJson materialJson(const Material& material, bool& uses_strength) {
     } else if (peak > 0.0f) {
         json["emissiveFactor"] = vec3Json(emission);
     }
+    if (!textured) return json;
+    if (const int base = textureIndex(textures, lists, bin, material.base_color_texture); base >= 0) {
+        json["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", base}};
+        // glTF multiplies texture and factor; a VRML97 RGB texture replaces the colour.
+        if (material.base_color_texture.rgb_replaces && imageChannels(material.base_color_texture) >= 3)
+            json["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
+    }
+    if (const int emissive = textureIndex(textures, lists, bin, material.emissive_texture); emissive >= 0)
+        json["emissiveTexture"] = {{"index", emissive}};
+    if (const int normal = textureIndex(textures, lists, bin, material.normal_texture); normal >= 0)
+        json["normalTexture"] = {{"index", normal}};
     return json;
 }
 
@@ -209,31 +329,46 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     JsonLists lists;
     std::string bin;
     size_t non_finite = 0;
+    // A material's textures are written only when every mesh using it has UVs for them.
+    std::vector<bool> textured(scene.materials.size(), true);
+    for (const Mesh& mesh : scene.meshes)
+        if (mesh.material < textured.size() && mesh.uv0.size() != mesh.positions.size()) textured[mesh.material] = false;
+    auto normalMapped = [&](uint32_t material) {
+        return material < textured.size() && textured[material] && !scene.materials[material].normal_texture.empty();
+    };
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         if (mesh.triangles.empty() || mesh.positions.empty()) continue;  // glTF accessors need count >= 1
         const int material = mesh.material < scene.materials.size() ? static_cast<int>(mesh.material) : -1;
         GltfJson primitives = GltfJson::array(), mesh_extras;
         const LightmapMesh* lightmap_mesh = options.lightmaps ? &options.lightmaps->meshes[m] : nullptr;
+        const bool has_uv = !mesh.uv0.empty() && mesh.uv0.size() == mesh.positions.size();
         if (lightmap_mesh && !lightmap_mesh->triangles.empty()) {
             // One primitive per atlas: an engine binds one lightmap texture per primitive.
             const std::vector<Vec3> normals = lightmapVertexNormals(mesh, *lightmap_mesh);
             const std::vector<Vec3> colors = lightmapVertexValues(mesh, *lightmap_mesh, &bake.values[m], non_finite);
+            std::vector<Vec2> source_uv;
+            if (has_uv)
+                for (size_t v = 0; v < lightmap_mesh->positions.size(); ++v)
+                    source_uv.push_back(gltfUv(interpolateSource(*lightmap_mesh, v, std::span<const Vec2>(mesh.uv0))));
             std::vector<std::string> files;
             for (const int atlas : atlasesUsed(*lightmap_mesh)) {
-                const AtlasPart part = atlasPart(*lightmap_mesh, atlas, normals, colors);
+                const AtlasPart part = atlasPart(*lightmap_mesh, atlas, normals, colors, source_uv);
                 const std::string& file = options.lightmaps->atlas_files[static_cast<size_t>(atlas)];
                 const GltfJson extras = {{"radbake_lightmap", file}, {"radbake_lightmap_index", atlas}};
-                primitives.push_back(primitiveJson(
-                    lists, bin, {part.positions, part.normals, part.colors, &part.uv, part.triangles}, material, extras));
+                primitives.push_back(primitiveJson(lists, bin,
+                                                   {part.positions, part.normals, part.colors, &part.uv, part.triangles,
+                                                    has_uv ? &part.source_uv : nullptr, normalMapped(mesh.material)},
+                                                   material, extras));
                 files.push_back(file);
             }
             mesh_extras = {{"radbake_lightmaps", files}};
         } else {
+            const std::vector<Vec2> source_uv = has_uv ? gltfUvs(mesh.uv0) : std::vector<Vec2>();
             primitives.push_back(primitiveJson(
                 lists, bin,
                 {mesh.positions, vertexNormals(mesh), finiteVertexValues(mesh, &bake.values[m], non_finite), nullptr,
-                 mesh.triangles},
+                 mesh.triangles, has_uv ? &source_uv : nullptr, normalMapped(mesh.material)},
                 material));
         }
         const std::string name = mesh.name.empty() ? "mesh" + std::to_string(m) : mesh.name;
@@ -246,8 +381,10 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
         diagnostics.warning({}, std::to_string(non_finite) + " baked vertex values were not finite and were written as 0");
 
     bool uses_strength = false;
+    TextureTable textures;
     GltfJson materials = GltfJson::array();
-    for (const Material& material : scene.materials) materials.push_back(materialJson(material, uses_strength));
+    for (size_t i = 0; i < scene.materials.size(); ++i)
+        materials.push_back(materialJson(scene.materials[i], textured[i], textures, lists, bin, uses_strength));
 
     GltfJson node_indices = GltfJson::array();
     for (size_t i = 0; i < lists.nodes.size(); ++i) node_indices.push_back(i);
@@ -255,7 +392,8 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     GltfJson asset_extras = {{"_RADBAKE_LIGHT", "baked irradiance H/pi per vertex, linear, unclamped"},
                              {"COLOR_0", "_RADBAKE_LIGHT clamped to [0, 1], as glTF requires"}};
     if (options.lightmaps) {
-        asset_extras["TEXCOORD_1"] = "lightmap UVs (TEXCOORD_0 repeats them); u right, v down from the top row";
+        asset_extras["TEXCOORD_1"] =
+            "lightmap UVs (TEXCOORD_0 repeats them when the mesh has no UVs of its own); u right, v down from the top row";
         asset_extras["radbake_lightmaps"] = options.lightmaps->atlas_files;
     }
     GltfJson root = {{"asset", {{"version", "2.0"}, {"generator", options.generator}, {"extras", std::move(asset_extras)}}}};
@@ -265,6 +403,12 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     root["nodes"] = std::move(lists.nodes);
     root["meshes"] = std::move(lists.meshes);
     if (!materials.empty()) root["materials"] = std::move(materials);
+    if (!textures.textures.empty()) {
+        root["textures"] = std::move(textures.textures);
+        root["images"] = std::move(textures.images);
+        // Linear, mipmapped, repeating: how the bake averaged the textures.
+        root["samplers"] = GltfJson::array({{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}}});
+    }
     if (!bin.empty()) {
         root["buffers"] = GltfJson::array({{{"byteLength", bin.size()}}});
         root["bufferViews"] = std::move(lists.buffer_views);

@@ -7,14 +7,22 @@
 // reflectance and emissiveFactor = emission (emission above 1 is normalised and carried by
 // KHR_materials_emissive_strength).
 //
+// Source UVs (Mesh::uv0) are TEXCOORD_0, in glTF's convention (v down: (u, 1 - v) of the
+// source's v-up UVs). A material whose meshes all have them carries its textures: base colour
+// (baseColorFactor 1 for a VRML97 RGB texture, which replaces the colour), emissive and
+// normal map, each an image embedded in the BIN chunk (PNG and JPEG as the file's bytes, or
+// the bytes the source model embedded; other formats re-encoded to PNG), one texture per image
+// and one repeating sampler; normal-mapped primitives carry TANGENT.
+//
 // With lightmaps (GltfOptions::lightmaps), a mesh that has charts is written from its
 // LightmapMesh instead (vertices split at chart seams), as one primitive per atlas it uses,
 // since an engine binds one lightmap per primitive:
 //   POSITION, NORMAL (the source normals carried over with interpolateSource when the mesh
 //   has them, else the face normal of the source triangle), _RADBAKE_LIGHT and COLOR_0 (the
 //   vertex bake carried over with interpolateSource), TEXCOORD_1 = the lightmap UVs (u right, v down from the
-//   image's top row, in [0, 1] of the atlas) and TEXCOORD_0 = the same accessor: glTF wants
-//   UV sets numbered from 0 without gaps, and radbake reads no material UVs.
+//   image's top row, in [0, 1] of the atlas) and TEXCOORD_0 = the source UVs carried over with
+//   interpolateSource, or, for a mesh without source UVs, the lightmap accessor again: glTF
+//   wants UV sets numbered from 0 without gaps.
 //   primitive extras: {"radbake_lightmap": "lightmaps/x_0.exr", "radbake_lightmap_index": 0}
 //   mesh extras:      {"radbake_lightmaps": [the mesh's files, by atlas index]}
 //   asset extras:     "radbake_lightmaps": every atlas file.

@@ -92,6 +92,19 @@ std::string encodePng(const RgbImage& linear, double exposure, std::string& why)
 
 }  // namespace
 
+std::string encodeRgba8Png(int width, int height, const std::vector<uint8_t>& rgba) {
+    if (width <= 0 || height <= 0 || width > INT_MAX / 4 ||
+        rgba.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 4)
+        return {};
+    try {
+        std::string png;
+        if (!stbi_write_png_to_func(appendBytes, &png, width, height, 4, rgba.data(), width * 4)) return {};
+        return png;
+    } catch (...) {  // allocation failure: no PNG
+        return {};
+    }
+}
+
 std::string encodePreviewPng(const RgbImage& linear, double exposure) {
     std::string why;
     return encodePng(linear, exposure, why);
@@ -274,8 +287,13 @@ struct Shader {
     DVec3 radiance(const RayHit& hit) const {
         const Mesh& source = scene.meshes[hit.triangle.mesh];
         if (source.material >= scene.materials.size()) return baked(hit);
-        const Material& material = scene.materials[source.material];
-        return DVec3(material.reflectance) * baked(hit) + DVec3(material.emission);
+        // The source polygon's own colours (a texture may set them per polygon).
+        const uint32_t m = hit.triangle.mesh;
+        const uint32_t t = setup.from_lightmap[m] ? (*lightmap_meshes)[m].source_triangle[hit.triangle.triangle]
+                                                  : hit.triangle.triangle;
+        const uint32_t polygon = t < source.triangle_polygon.size() ? source.triangle_polygon[t] : 0;
+        return DVec3(polygonReflectance(scene, source, polygon)) * baked(hit) +
+               DVec3(polygonEmission(scene, source, polygon));
     }
 };
 

@@ -25,6 +25,10 @@ namespace radbake {
 // (234, 0, 0). Empty string for an empty or inconsistent image.
 std::string encodePreviewPng(const RgbImage& linear, double exposure);
 
+// 8-bit RGBA pixels (top row first) as PNG bytes, no conversion: how the glb re-encodes a
+// texture that is neither PNG nor JPEG. Empty when the image is empty, inconsistent or too large.
+std::string encodeRgba8Png(int width, int height, const std::vector<uint8_t>& rgba);
+
 // encodePreviewPng written to `path`. An image that cannot be encoded (empty, inconsistent,
 // too large for the encoder, out of memory) is an error at `path` and nothing is written: a
 // 0-byte PNG would be listed in the manifest as if it were a preview. False after reporting.

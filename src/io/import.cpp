@@ -7,6 +7,7 @@
 
 #include "io/assimp/assimp_reader.h"
 #include "io/vrml/vrml_reader.h"
+#include "scene/textures.h"
 #include "scene/validate.h"
 
 namespace radbake {
@@ -77,6 +78,9 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
             scene.input_files.push_back(normal);
     }
     applyScales(scene, options);
+    // After the emission scale (a textured emission is the scaled colour times the texture),
+    // before validation (which clamps textured reflectance as it does the materials').
+    applyTextures(scene, diagnostics);
     if (!validateScene(scene, diagnostics)) return std::nullopt;
     return scene;
 }

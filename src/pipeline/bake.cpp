@@ -133,6 +133,13 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     if (!scene.input_files.empty()) {
         std::string hashes;
         for (const std::string& file : scene.input_files) {
+            // A texture named but absent (warned at import) is an input too: "absent" is its
+            // state, so adding the file changes the provenance.
+            std::error_code ec;
+            if (!std::filesystem::exists(file, ec)) {
+                hashes += "absent\n";
+                continue;
+            }
             std::optional<std::string> hash = sha256File(file, diagnostics);
             if (!hash) return (void)stopped();
             hashes += *hash + "\n";

@@ -66,11 +66,9 @@ void addRoot(Solution& solution, const Scene& scene, uint32_t mesh_index, uint32
     element.mesh = mesh_index;
     element.polygon = polygon;
     element.root = static_cast<uint32_t>(solution.elements.size());
-    if (mesh.material < scene.materials.size()) {
-        const Material& material = scene.materials[mesh.material];
-        element.reflectance = DVec3(material.reflectance);
-        element.emission = kPi * DVec3(material.emission);
-    }
+    // Per polygon: a texture may give each polygon its own (scene.h).
+    element.reflectance = DVec3(polygonReflectance(scene, mesh, polygon));
+    element.emission = kPi * DVec3(polygonEmission(scene, mesh, polygon));
     solution.elements.push_back(element);
 }
 

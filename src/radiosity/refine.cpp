@@ -235,10 +235,7 @@ void computeDirectLight(RefineState& state) {
     Solution& s = state.solution;
     const Scene& scene = state.scene;
     // Own emission first (every element, cheap).
-    auto own = [&](const Element& e) {
-        const uint32_t material = scene.meshes[e.mesh].material;
-        return material < scene.materials.size() ? kPi * DVec3(scene.materials[material].emission) : DVec3(0.0);
-    };
+    auto own = [&](const Element& e) { return kPi * DVec3(polygonEmission(scene, scene.meshes[e.mesh], e.polygon)); };
     const bool lights = !scene.lights.empty();
     for (int pass = 0; pass < 64; ++pass) {
         state.direct_done.resize(s.elements.size(), 0);

@@ -10,6 +10,16 @@ double triangleArea(const Mesh& mesh, size_t triangle) {
     return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
+Vec3 polygonReflectance(const Scene& scene, const Mesh& mesh, uint32_t polygon) {
+    if (polygon < mesh.polygon_reflectance.size()) return mesh.polygon_reflectance[polygon];
+    return mesh.material < scene.materials.size() ? scene.materials[mesh.material].reflectance : Vec3(0.0f);
+}
+
+Vec3 polygonEmission(const Scene& scene, const Mesh& mesh, uint32_t polygon) {
+    if (polygon < mesh.polygon_emission.size()) return mesh.polygon_emission[polygon];
+    return mesh.material < scene.materials.size() ? scene.materials[mesh.material].emission : Vec3(0.0f);
+}
+
 SceneSummary summarize(const Scene& scene) {
     SceneSummary summary;
     summary.materials = scene.materials.size();

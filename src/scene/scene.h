@@ -3,6 +3,7 @@
 // Everything is in world space, in metres (after --unit-scale), with radiometric
 // quantities as DESIGN.md section 2 defines them.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -11,13 +12,32 @@
 
 namespace radbake {
 
+// A texture file a material names: the path as resolved against the file that named it, and
+// where it was named (for the warning when it cannot be read). Empty path: no texture.
+struct TextureRef {
+    std::string path;
+    SourceLocation location;
+    // The image file's bytes when the model file holds them (glb, FBX): `path` then only names
+    // it in messages ("scene.glb#*0") and is no file of its own.
+    std::shared_ptr<const std::string> embedded;
+    // VRML97: an RGB(A) texture replaces the colour, an intensity (1- or 2-channel) one
+    // modulates it. Otherwise (MTL, glTF, VRML 1.0 Texture2) texture times colour.
+    bool rgb_replaces = false;
+
+    bool empty() const { return path.empty(); }
+};
+
 struct Material {
     std::string name;
-    Vec3 reflectance{0.8f};  // diffuse rho per channel, in [0, 1)
+    // Diffuse rho per channel, in [0, 1); where a texture gives every polygon of the
+    // material's meshes its own (Mesh::polygon_reflectance), only the factor, kept as given.
+    Vec3 reflectance{0.8f};
     Vec3 emission{0.0f};     // emitted radiance L_e, W sr^-1 m^-2 (times --emission-scale)
     float ambient_intensity = 0.2f;
     float transparency = 0.0f;
-    std::string texture;  // noted, not used
+    TextureRef base_color_texture;  // sets the reflectance per polygon (scene/textures.h)
+    TextureRef emissive_texture;    // sets the emission per polygon
+    TextureRef normal_texture;      // passed through to the glb, not used by the solve
     SourceLocation location;
 
     bool isEmitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
@@ -33,6 +53,11 @@ struct Mesh {
     std::vector<Vec3> normals;           // per vertex, world space; empty when not given
     std::vector<Vec3> vertex_colors;     // per vertex; empty when not given
     std::vector<Vec3> polygon_colors;    // per polygon; empty when not given
+    std::vector<Vec2> uv0;               // per vertex, the source's first UV set (v up, as OBJ and VRML); empty when none
+    // Per polygon, where a texture sets them (applyTextures): they replace the material's
+    // reflectance and emission for that polygon. Empty: the material's.
+    std::vector<Vec3> polygon_reflectance;
+    std::vector<Vec3> polygon_emission;
     std::vector<UVec3> triangles;        // counter-clockwise seen from the front
     std::vector<uint32_t> triangle_polygon;
     uint32_t polygon_count = 0;
@@ -93,6 +118,11 @@ struct SceneSummary {
 };
 
 double triangleArea(const Mesh& mesh, size_t triangle);
+
+// The reflectance and emission the solve uses for one polygon of a mesh: the per-polygon
+// value when a texture set one, else the material's (zero without a material).
+Vec3 polygonReflectance(const Scene& scene, const Mesh& mesh, uint32_t polygon);
+Vec3 polygonEmission(const Scene& scene, const Mesh& mesh, uint32_t polygon);
 SceneSummary summarize(const Scene& scene);
 
 }  // namespace radbake

@@ -72,12 +72,20 @@ std::string vecText(const Vec3& v) {
 // ---------------------------------------------------------------------------------------
 // Materials, lights, cameras.
 
-bool validateMaterial(Material& material, size_t index, Diagnostics& diagnostics) {
+// `factor_only`: every polygon of every mesh using the material has its own reflectance (a
+// texture set it), so the material's colour is only the factor that multiplies the texture
+// (MTL's `Kd 1` with a map_Kd) and is kept as given.
+bool validateMaterial(Material& material, size_t index, bool factor_only, Diagnostics& diagnostics) {
     const std::string what = describeMaterial(material, index);
     if (!isFinite(material.reflectance) || !isFinite(material.emission) || !finite(material.transparency) ||
         !finite(material.ambient_intensity)) {
         diagnostics.error(material.location, what + " has a non-finite colour or value");
         return false;
+    }
+    if (factor_only) {
+        material.reflectance = glm::max(material.reflectance, Vec3(0.0f));
+        material.emission = glm::max(material.emission, Vec3(0.0f));
+        return true;
     }
     const Vec3 clamped = glm::clamp(material.reflectance, Vec3(0.0f), Vec3(kMaxReflectance));
     if (glm::any(glm::lessThan(material.reflectance, Vec3(0.0f))))
@@ -150,6 +158,23 @@ bool checkMeshNumbers(const Mesh& mesh, size_t index, size_t material_count, Dia
                                              " polygon colour(s) not finite (first: polygon " + std::to_string(first) + ")");
         ok = false;
     }
+    const size_t bad_uv = static_cast<size_t>(std::count_if(mesh.uv0.begin(), mesh.uv0.end(), [](const Vec2& uv) {
+        return !std::isfinite(uv.x) || !std::isfinite(uv.y);
+    }));
+    if (bad_uv > 0) {
+        const size_t first = static_cast<size_t>(std::find_if(mesh.uv0.begin(), mesh.uv0.end(), [](const Vec2& uv) {
+                                                     return !std::isfinite(uv.x) || !std::isfinite(uv.y);
+                                                 }) - mesh.uv0.begin());
+        diagnostics.error(mesh.location, what + ": " + std::to_string(bad_uv) + " texture coordinate(s) not finite (first: vertex " +
+                                             std::to_string(first) + ")");
+        ok = false;
+    }
+    for (const std::vector<Vec3>* values : {&mesh.polygon_reflectance, &mesh.polygon_emission})
+        if (size_t first = firstBad(*values, bad); bad > 0) {
+            diagnostics.error(mesh.location, what + ": " + std::to_string(bad) + " textured polygon colour(s) not finite (first: polygon " +
+                                                 std::to_string(first) + ")");
+            ok = false;
+        }
     if (mesh.material >= material_count) {
         diagnostics.error(mesh.location, what + " refers to material " + std::to_string(mesh.material) + " of " +
                                              std::to_string(material_count));
@@ -171,6 +196,13 @@ void dropMismatchedArrays(Mesh& mesh, size_t index, Diagnostics& diagnostics) {
     drop(mesh.vertex_colors, mesh.positions.size(), "vertex colours");
     drop(mesh.normals, mesh.positions.size(), "normals");
     drop(mesh.polygon_colors, mesh.polygon_count, "polygon colours");
+    drop(mesh.polygon_reflectance, mesh.polygon_count, "textured polygon reflectances");
+    drop(mesh.polygon_emission, mesh.polygon_count, "textured polygon emissions");
+    if (!mesh.uv0.empty() && mesh.uv0.size() != mesh.positions.size()) {
+        diagnostics.warning(mesh.location, what + ": " + std::to_string(mesh.uv0.size()) + " texture coordinates for " +
+                                               std::to_string(mesh.positions.size()) + " vertices, ignored");
+        mesh.uv0.clear();
+    }
     if (!mesh.normals.empty() && std::any_of(mesh.normals.begin(), mesh.normals.end(),
                                              [](const Vec3& n) { return !isFinite(n); })) {
         diagnostics.warning(mesh.location, what + ": non-finite normals, ignored");
@@ -191,6 +223,8 @@ void dropMismatchedArrays(Mesh& mesh, size_t index, Diagnostics& diagnostics) {
         for (size_t t = 0; t < mesh.triangles.size(); ++t) mesh.triangle_polygon[t] = static_cast<uint32_t>(t);
         mesh.polygon_count = static_cast<uint32_t>(mesh.triangles.size());
         mesh.polygon_colors.clear();
+        mesh.polygon_reflectance.clear();
+        mesh.polygon_emission.clear();
     }
 }
 
@@ -240,11 +274,12 @@ CleanupCounts cleanMesh(Mesh& mesh, double min_height) {
         triangle_polygon.push_back(new_polygon[old_polygon]);
     }
     counts.removed_polygons = mesh.polygon_count - kept_polygons.size();
-    if (!mesh.polygon_colors.empty()) {
-        std::vector<Vec3> colors;
-        colors.reserve(kept_polygons.size());
-        for (uint32_t old_polygon : kept_polygons) colors.push_back(mesh.polygon_colors[old_polygon]);
-        mesh.polygon_colors = std::move(colors);
+    for (std::vector<Vec3>* per_polygon : {&mesh.polygon_colors, &mesh.polygon_reflectance, &mesh.polygon_emission}) {
+        if (per_polygon->empty()) continue;
+        std::vector<Vec3> kept;
+        kept.reserve(kept_polygons.size());
+        for (uint32_t old_polygon : kept_polygons) kept.push_back((*per_polygon)[old_polygon]);
+        *per_polygon = std::move(kept);
     }
     mesh.polygon_count = static_cast<uint32_t>(kept_polygons.size());
 
@@ -266,11 +301,39 @@ CleanupCounts cleanMesh(Mesh& mesh, double min_height) {
         compact(mesh.positions);
         compact(mesh.normals);
         compact(mesh.vertex_colors);
+        if (!mesh.uv0.empty()) {
+            for (size_t v = 0; v < vertex_count; ++v)
+                if (new_vertex[v] != UINT32_MAX) mesh.uv0[new_vertex[v]] = mesh.uv0[v];
+            mesh.uv0.resize(next);
+        }
         for (UVec3& tri : triangles) tri = UVec3(new_vertex[tri.x], new_vertex[tri.y], new_vertex[tri.z]);
     }
     mesh.triangles = std::move(triangles);
     mesh.triangle_polygon = std::move(triangle_polygon);
     return counts;
+}
+
+// Textured reflectance obeys the material rule (below 1, never negative): one warning per
+// mesh naming the brightest value; emission is never negative.
+void clampPolygonColors(Mesh& mesh, size_t index, Diagnostics& diagnostics) {
+    size_t over = 0, negative = 0;
+    Vec3 brightest(0.0f);
+    for (Vec3& rho : mesh.polygon_reflectance) {
+        if (glm::any(glm::greaterThanEqual(rho, Vec3(1.0f)))) {
+            ++over;
+            brightest = glm::max(brightest, rho);
+        }
+        if (glm::any(glm::lessThan(rho, Vec3(0.0f)))) ++negative;
+        rho = glm::clamp(rho, Vec3(0.0f), Vec3(kMaxReflectance));
+    }
+    for (Vec3& emission : mesh.polygon_emission) emission = glm::max(emission, Vec3(0.0f));
+    if (over > 0)
+        diagnostics.warning(mesh.location, describeMesh(mesh, index) + ": textured reflectance up to " + vecText(brightest) +
+                                               " >= 1 on " + std::to_string(over) + " polygon(s), clamped to " +
+                                               std::to_string(kMaxReflectance));
+    if (negative > 0)
+        diagnostics.warning(mesh.location, describeMesh(mesh, index) + ": negative textured reflectance on " +
+                                               std::to_string(negative) + " polygon(s), clamped to 0");
 }
 
 void reportCleanup(const Mesh& mesh, size_t index, const CleanupCounts& counts, Diagnostics& diagnostics) {
@@ -291,7 +354,15 @@ void reportCleanup(const Mesh& mesh, size_t index, const CleanupCounts& counts, 
 
 bool validateScene(Scene& scene, Diagnostics& diagnostics) {
     bool ok = true;
-    for (size_t i = 0; i < scene.materials.size(); ++i) ok &= validateMaterial(scene.materials[i], i, diagnostics);
+    std::vector<bool> factor_only(scene.materials.size(), false);
+    for (const Mesh& mesh : scene.meshes)
+        if (mesh.material < factor_only.size()) factor_only[mesh.material] = true;
+    for (const Mesh& mesh : scene.meshes)
+        if (mesh.material < factor_only.size() &&
+            (mesh.polygon_count == 0 || mesh.polygon_reflectance.size() != mesh.polygon_count))
+            factor_only[mesh.material] = false;
+    for (size_t i = 0; i < scene.materials.size(); ++i)
+        ok &= validateMaterial(scene.materials[i], i, factor_only[i], diagnostics);
     for (size_t i = 0; i < scene.lights.size(); ++i) ok &= validateLight(scene.lights[i], i, diagnostics);
     for (size_t i = 0; i < scene.cameras.size(); ++i) ok &= validateCamera(scene.cameras[i], i, diagnostics);
     for (size_t i = 0; i < scene.meshes.size(); ++i)
@@ -302,6 +373,7 @@ bool validateScene(Scene& scene, Diagnostics& diagnostics) {
     for (size_t i = 0; i < scene.meshes.size(); ++i) {
         Mesh& mesh = scene.meshes[i];
         dropMismatchedArrays(mesh, i, diagnostics);
+        clampPolygonColors(mesh, i, diagnostics);
         reportCleanup(mesh, i, cleanMesh(mesh, min_height), diagnostics);
     }
     const size_t before = scene.meshes.size();

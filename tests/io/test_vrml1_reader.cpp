@@ -287,7 +287,9 @@ TEST_CASE("vrml1: ignored and unknown nodes, unknown fields") {
     CHECK(r.count(Severity::Warning, "unknown field 'colour'") == 1);  // repeats are counted, not repeated
     CHECK(r.count(Severity::Note, "unknown field 'colour' in Cube: 2 more occurrence(s)") == 1);
     CHECK(meshArea(r.scene->meshes[0]) == doctest::Approx(24.0));  // width read after the bad field
-    CHECK(r.scene->materials[r.scene->meshes[0].material].texture == "wood.gif");
+    const TextureRef& texture = r.scene->materials[r.scene->meshes[0].material].base_color_texture;
+    CHECK(texture.path.ends_with("wood.gif"));  // resolved against the file
+    CHECK_FALSE(texture.rgb_replaces);           // VRML 1.0: texture times the diffuse colour
 }
 
 TEST_CASE("vrml1: strict mode turns unknown nodes and fields into errors") {

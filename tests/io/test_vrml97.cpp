@@ -359,8 +359,23 @@ Shape { appearance Appearance { material USE Lamp texture ImageTexture { url "wo
     CHECK(m.emission == Vec3(5, 5, 4));
     CHECK(m.ambient_intensity == 0.5f);
     CHECK(m.transparency == 0.25f);
-    CHECK(m.texture == "wood.png");
+    CHECK(m.base_color_texture.path.ends_with("wood.png"));  // resolved against the file
+    CHECK(m.base_color_texture.rgb_replaces);                // VRML97: an RGB texture replaces diffuseColor
+    CHECK(m.base_color_texture.location.line == 4);  // the ImageTexture node
     CHECK(m.location.line == 3);
+}
+
+TEST_CASE("vrml97: a material without a DEF name takes its Appearance's, else its place") {
+    Read r = readVrml97("names", R"(
+Shape { appearance DEF White Appearance { material Material { diffuseColor 0.7 0.7 0.7 } } geometry Box { } }
+Shape { appearance Appearance { material Material { } } geometry Box { } }
+Shape { appearance DEF Outer Appearance { material DEF Inner Material { } } geometry Box { } }
+)");
+    REQUIRE(r.ok);
+    REQUIRE(r.scene.materials.size() == 3);
+    CHECK(r.scene.materials[0].name == "White");
+    CHECK(r.scene.materials[1].name == "Material@4:42");
+    CHECK(r.scene.materials[2].name == "Inner");  // the Material's own name first
 }
 
 TEST_CASE("vrml97: lights and viewpoints are kept in world space") {

@@ -15,7 +15,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <span>
@@ -153,7 +155,36 @@ std::string meshName(const aiNode& node, const aiMesh& mesh) {
     return node_name + "/" + mesh_name;
 }
 
-Material convertMaterial(const aiMaterial& source, const std::string& path) {
+// The first texture of the first of `types` the material has, resolved against the model
+// file's folder (MTL and glTF name textures relative to it), or the image file a glb or FBX
+// embeds ("*0", or its file name), kept as bytes. Uncompressed embedded texels (rare) are not
+// read: one warning, the material's colour is used.
+TextureRef textureRef(const aiScene& ai, const aiMaterial& source, std::initializer_list<aiTextureType> types,
+                      const std::string& path, Diagnostics& diagnostics) {
+    for (const aiTextureType type : types) {
+        aiString texture;
+        if (source.GetTexture(type, 0, &texture) != AI_SUCCESS || texture.length == 0) continue;
+        std::string name = texture.C_Str();
+        if (const aiTexture* embedded = ai.GetEmbeddedTexture(name.c_str())) {
+            if (embedded->mHeight != 0 || embedded->pcData == nullptr) {
+                diagnostics.warning({path, 0, 0}, "embedded texture '" + name +
+                                                      "' holds raw texels, which are not read; the material's own colour is used");
+                return {};
+            }
+            const char* bytes = reinterpret_cast<const char*>(embedded->pcData);
+            return {.path = path + "#" + name,
+                    .location = {path, 0, 0},
+                    .embedded = std::make_shared<const std::string>(bytes, bytes + embedded->mWidth)};
+        }
+        std::replace(name.begin(), name.end(), '\\', '/');  // MTL files written on Windows
+        const std::filesystem::path file(name);
+        const std::filesystem::path resolved = file.is_absolute() ? file : std::filesystem::path(path).parent_path() / file;
+        return {.path = resolved.lexically_normal().string(), .location = {path, 0, 0}};
+    }
+    return {};
+}
+
+Material convertMaterial(const aiScene& ai, const aiMaterial& source, const std::string& path, Diagnostics& diagnostics) {
     Material material;
     material.location = {path, 0, 0};
     aiString name;
@@ -163,8 +194,9 @@ Material convertMaterial(const aiMaterial& source, const std::string& path) {
     if (source.Get(AI_MATKEY_COLOR_EMISSIVE, color) == AI_SUCCESS) material.emission = toVec3(color);
     float opacity = 1.0f;
     if (source.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) material.transparency = 1.0f - opacity;
-    aiString texture;
-    if (source.GetTexture(aiTextureType_DIFFUSE, 0, &texture) == AI_SUCCESS) material.texture = texture.C_Str();
+    material.base_color_texture = textureRef(ai, source, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}, path, diagnostics);
+    material.emissive_texture = textureRef(ai, source, {aiTextureType_EMISSIVE}, path, diagnostics);
+    material.normal_texture = textureRef(ai, source, {aiTextureType_NORMALS}, path, diagnostics);
     return material;
 }
 
@@ -211,6 +243,11 @@ Mesh convertMesh(const aiMesh& source, const aiNode& node, const Mat4& world_fro
             const float length = glm::length(n);
             mesh.normals.push_back(length > 0.0f ? n / length : n);
         }
+    }
+    if (source.HasTextureCoords(0)) {
+        mesh.uv0.reserve(source.mNumVertices);
+        for (unsigned v = 0; v < source.mNumVertices; ++v)
+            mesh.uv0.emplace_back(source.mTextureCoords[0][v].x, source.mTextureCoords[0][v].y);
     }
     if (source.HasVertexColors(0)) {
         mesh.vertex_colors.reserve(source.mNumVertices);
@@ -288,7 +325,7 @@ struct Converter {
     void convertMaterials() {
         material_offset = static_cast<uint32_t>(scene.materials.size());
         for (unsigned m = 0; m < ai.mNumMaterials; ++m)
-            scene.materials.push_back(ai.mMaterials[m] ? convertMaterial(*ai.mMaterials[m], path) : Material{});
+            scene.materials.push_back(ai.mMaterials[m] ? convertMaterial(ai, *ai.mMaterials[m], path, diagnostics) : Material{});
         // A mesh must always have a material to point at.
         if (ai.mNumMaterials == 0) {
             Material fallback;

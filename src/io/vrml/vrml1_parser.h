@@ -50,7 +50,9 @@ struct Vrml1State {
     bool solid_shape = false;
     bool convex_faces = true;
     float crease_angle = 0.5f;
-    std::string texture;  // Texture2 filename, noted on materials
+    std::string texture;  // Texture2 filename as written, noted on materials
+    SourceLocation texture_location;
+    std::shared_ptr<const std::vector<Vec2>> tex_coords;  // TextureCoordinate2
     std::string group_name;  // DEF name of the nearest named group: names the shapes inside it
 };
 
@@ -60,6 +62,7 @@ struct Vrml1Shape {
     std::vector<UVec3> triangles;
     std::vector<uint32_t> triangle_polygon;  // contiguous polygon ids from 0
     std::vector<uint32_t> polygon_material;  // index into the current Material's lists
+    std::vector<UVec3> triangle_uv;          // per triangle corner, index into the state's tex_coords; empty: none
     bool convex_solid = false;
     bool solid = true;
     bool clockwise = false;  // triangles turn clockwise seen from the front
@@ -73,7 +76,8 @@ enum class Vrml1Kind {
     Transform, MatrixTransform, Translation, Rotation, Scale,
     IndexedFaceSet, Cube, Sphere, Cylinder, Cone,
     WwwInline, PerspectiveCamera, PointLight, DirectionalLight, SpotLight,
-    Texture2, Accepted,  // accepted and ignored: Info, Normal, NormalBinding, TextureCoordinate2, ...
+    Texture2, TextureCoordinate2,
+    Accepted,  // accepted and ignored: Info, Normal, NormalBinding, Texture2Transform, ...
     Ignored,             // ignored with one warning per kind: IndexedLineSet, PointSet, AsciiText
 };
 

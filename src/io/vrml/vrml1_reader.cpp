@@ -43,7 +43,7 @@ Vrml1Kind kindOf(std::string_view name) {
         {"Info", Vrml1Kind::Accepted},
         {"Normal", Vrml1Kind::Accepted},
         {"NormalBinding", Vrml1Kind::Accepted},
-        {"TextureCoordinate2", Vrml1Kind::Accepted},
+        {"TextureCoordinate2", Vrml1Kind::TextureCoordinate2},
         {"Texture2Transform", Vrml1Kind::Accepted},
         {"OrthographicCamera", Vrml1Kind::Accepted},
         {"FontStyle", Vrml1Kind::Accepted},
@@ -417,7 +417,18 @@ bool Vrml1Parser::parseProperty(Vrml1Kind kind, const Token& type, const std::st
             state.world_from_object = state.world_from_object * scaleMatrix(scale);
             return ok;
         }
+        case Vrml1Kind::TextureCoordinate2: {
+            std::vector<float> values;
+            const bool ok = parseLeaf(type, state, depth, [&](const Token& f) {
+                return f.text == "point" ? r(readFloats(f, values)) : 0;
+            });
+            auto points = std::make_shared<std::vector<Vec2>>();
+            for (size_t i = 0; i + 1 < values.size(); i += 2) points->emplace_back(values[i], values[i + 1]);
+            state.tex_coords = std::move(points);
+            return ok;
+        }
         case Vrml1Kind::Texture2:
+            state.texture_location = loc(type);
             return parseLeaf(type, state, depth, [&](const Token& f) {
                 if (f.text == "filename") return r(readString(f, state.texture));
                 if (f.text == "image" || f.text == "wrapS" || f.text == "wrapT") return r(skipValue(f));

@@ -1,6 +1,8 @@
 // VRML 1.0 reader: shapes (IndexedFaceSet and primitives) split by material binding, lights,
 // cameras and WWWInline.
 #include <algorithm>
+#include <map>
+#include <unordered_map>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -69,7 +71,10 @@ uint32_t Vrml1Parser::sceneMaterial(const Vrml1State& state, uint32_t index) {
     const float diffuse_sum = material.reflectance.x + material.reflectance.y + material.reflectance.z;
     if (diffuse_sum > 0.0f)
         material.ambient_intensity = std::clamp((ambient.x + ambient.y + ambient.z) / diffuse_sum, 0.0f, 1.0f);
-    material.texture = state.texture;
+    // Texture2 times the diffuse colour (Open Inventor's default MODULATE; VRML 1.0 says no more).
+    if (!state.texture.empty())
+        if (const std::optional<std::string> resolved = resolveUrl(path_, state.texture))
+            material.base_color_texture = {.path = *resolved, .location = state.texture_location};
     material.location = list.location.file.empty() ? SourceLocation{path_, 0, 0} : list.location;
     scene_.materials.push_back(std::move(material));
     const uint32_t id = static_cast<uint32_t>(scene_.materials.size() - 1);
@@ -92,6 +97,9 @@ void Vrml1Parser::emitShape(const Vrml1Shape& shape, const Vrml1State& state, co
     const bool flip = mirrored != shape.clockwise;
     std::vector<uint32_t> remap(positions.size(), UINT32_MAX);
     std::vector<uint32_t> touched;
+    // With texture coordinates a vertex is a (coordinate, texture coordinate) pair.
+    const bool has_uv = !shape.triangle_uv.empty() && state.tex_coords;
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> uv_vertex;
     for (size_t begin = 0; begin < order.size();) {
         const uint32_t material_index = material_of(order[begin]);
         size_t end = begin;
@@ -108,6 +116,16 @@ void Vrml1Parser::emitShape(const Vrml1Shape& shape, const Vrml1State& state, co
             const uint32_t t = order[i];
             UVec3 tri = shape.triangles[t];
             for (int k = 0; k < 3; ++k) {
+                if (has_uv) {
+                    const uint32_t uv = shape.triangle_uv[t][k];
+                    const auto [it, added] = uv_vertex.try_emplace({tri[k], uv}, static_cast<uint32_t>(mesh.positions.size()));
+                    if (added) {
+                        mesh.positions.push_back(transformPoint(state.world_from_object, positions[tri[k]]));
+                        mesh.uv0.push_back((*state.tex_coords)[uv]);
+                    }
+                    tri[k] = it->second;
+                    continue;
+                }
                 uint32_t& slot = remap[tri[k]];
                 if (slot == UINT32_MAX) {
                     slot = static_cast<uint32_t>(mesh.positions.size());
@@ -126,6 +144,7 @@ void Vrml1Parser::emitShape(const Vrml1Shape& shape, const Vrml1State& state, co
         }
         for (uint32_t v : touched) remap[v] = UINT32_MAX;
         touched.clear();
+        uv_vertex.clear();
         mesh.convex_solid = shape.convex_solid && begin == 0 && end == order.size();
         scene_.meshes.push_back(std::move(mesh));
         begin = end;
@@ -134,11 +153,12 @@ void Vrml1Parser::emitShape(const Vrml1Shape& shape, const Vrml1State& state, co
 
 bool Vrml1Parser::parseIndexedFaceSet(const Token& type, const std::string& def_name, Vrml1State& state,
                                       int depth) {
-    std::vector<int32_t> coord_index, material_index, ignored;
+    std::vector<int32_t> coord_index, material_index, tex_index, ignored;
     const bool ok = parseLeaf(type, state, depth, [&](const Token& f) {
         if (f.text == "coordIndex") return readInts(f, coord_index) ? 1 : -1;
         if (f.text == "materialIndex") return readInts(f, material_index) ? 1 : -1;
-        if (f.text == "normalIndex" || f.text == "textureCoordIndex") return readInts(f, ignored) ? 1 : -1;
+        if (f.text == "textureCoordIndex") return readInts(f, tex_index) ? 1 : -1;
+        if (f.text == "normalIndex") return readInts(f, ignored) ? 1 : -1;
         return 0;
     });
     if (!ok || !emit_) return ok;
@@ -154,6 +174,17 @@ bool Vrml1Parser::parseIndexedFaceSet(const Token& type, const std::string& def_
     shape.solid = state.solid_shape && state.ordering_known;
     shape.clockwise = state.clockwise;
     shape.crease_angle = state.crease_angle;
+
+    // Texture coordinates per corner: textureCoordIndex, or coordIndex when it is the default
+    // [-1]; kept only when every used corner has one.
+    const size_t tex_count = state.tex_coords ? state.tex_coords->size() : 0;
+    const bool tex_default = tex_index.empty() || (tex_index.size() == 1 && tex_index[0] == -1);
+    const std::vector<int32_t>& corner_tex = tex_default ? coord_index : tex_index;
+    bool use_uv = tex_count > 0 && corner_tex.size() >= coord_index.size();
+    for (size_t k = 0; use_uv && k < coord_index.size(); ++k)
+        use_uv = coord_index[k] < 0 || (corner_tex[k] >= 0 && static_cast<size_t>(corner_tex[k]) < tex_count);
+    if (tex_count > 0 && !use_uv) warn(type, "texture coordinates do not match the faces; ignored");
+    std::unordered_map<uint32_t, uint32_t> loop_uv;  // coordinate -> texture coordinate in the current face
 
     if (state.material_binding == Vrml1Binding::PerVertex || state.material_binding == Vrml1Binding::PerVertexIndexed)
         warnOnce("per-vertex-material", type, "per-vertex materials reduced to one per face (the first corner's)");
@@ -202,6 +233,15 @@ bool Vrml1Parser::parseIndexedFaceSet(const Token& type, const std::string& def_
             } else {
                 const bool convex = state.convex_faces && looksConvex(coords, loop);
                 const size_t made = triangulatePolygon(coords, loop, convex, shape.triangles);
+                if (made > 0 && use_uv) {
+                    loop_uv.clear();
+                    for (size_t i = start; i < end; ++i)
+                        loop_uv.try_emplace(static_cast<uint32_t>(coord_index[i]), static_cast<uint32_t>(corner_tex[i]));
+                    for (size_t t = shape.triangles.size() - made; t < shape.triangles.size(); ++t) {
+                        const UVec3& tri = shape.triangles[t];
+                        shape.triangle_uv.emplace_back(loop_uv[tri.x], loop_uv[tri.y], loop_uv[tri.z]);
+                    }
+                }
                 if (made > 0) {
                     shape.triangle_polygon.insert(shape.triangle_polygon.end(), made,
                                                   static_cast<uint32_t>(shape.polygon_material.size()));

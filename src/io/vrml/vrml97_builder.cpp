@@ -213,12 +213,18 @@ void Vrml97Builder::visit(const NodePtr& start, const DMat4& m, int depth) {
 uint32_t Vrml97Builder::materialFor(const NodePtr& appearance) {
     NodePtr material;
     std::string texture;
+    SourceLocation texture_location;
     if (appearance && appearance->type == "Appearance") {
         material = sfNode(*appearance, "material");
         if (material && material->type != "Material") material = nullptr;
         if (NodePtr tex = sfNode(*appearance, "texture"); tex && tex->type == "ImageTexture") {
-            const auto& urls = mfStrings(*tex, "url");
-            if (!urls.empty()) texture = urls.front();
+            // The first local url (a missing file is still named: the depfile lists it).
+            for (const std::string& url : mfStrings(*tex, "url"))
+                if (const std::optional<std::string> resolved = resolveUrl(path_, url)) {
+                    texture = *resolved;
+                    texture_location = tex->location;
+                    break;
+                }
         }
     }
     if (!material && texture.empty()) {
@@ -234,18 +240,21 @@ uint32_t Vrml97Builder::materialFor(const NodePtr& appearance) {
     const auto key = std::make_pair(static_cast<const Node*>(material.get()), texture);
     if (const auto it = materials_.find(key); it != materials_.end()) return it->second;
     Material m;
-    m.texture = texture;
+    if (!texture.empty()) m.base_color_texture = {.path = texture, .location = texture_location, .rgb_replaces = true};
     if (material) {
-        m.name = !material->name.empty() ? material->name
-                                         : "Material@" + std::to_string(material->location.line) + ":" +
-                                               std::to_string(material->location.column);
+        // The Material's DEF name, else its Appearance's (scenes/cornell_box.wrl names those),
+        // else where it is.
+        m.name = !material->name.empty()                 ? material->name
+                 : appearance && !appearance->name.empty() ? appearance->name
+                                                           : "Material@" + std::to_string(material->location.line) +
+                                                                 ":" + std::to_string(material->location.column);
         m.reflectance = sfVec3(*material, "diffuseColor", Vec3(0.8f));
         m.emission = sfVec3(*material, "emissiveColor", Vec3(0.0f));
         m.ambient_intensity = sfFloat(*material, "ambientIntensity", 0.2f);
         m.transparency = sfFloat(*material, "transparency", 0.0f);
         m.location = material->location;
     } else {
-        m.name = "default";
+        m.name = !appearance->name.empty() ? appearance->name : "default";
         m.location = appearance->location;
     }
     const uint32_t index = static_cast<uint32_t>(scene_.materials.size());

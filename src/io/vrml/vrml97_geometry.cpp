@@ -1,6 +1,8 @@
 // IndexedFaceSet, ElevationGrid and Extrusion -> object-space meshes.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <unordered_map>
 
 #include "io/vrml/vrml97_builder.h"
@@ -61,6 +63,27 @@ bool Vrml97Builder::indexedFaceSet(const Node& node, Mesh& mesh) {
     }
     const bool corner_colors = colors && color_per_vertex && !color_index.empty();
 
+    // Texture coordinates: per corner through texCoordIndex, or per coordinate when it is empty.
+    const NodePtr tex_node = sfNode(node, "texCoord");
+    const std::vector<float>* tex = tex_node ? &mfFloats(*tex_node, "point") : nullptr;
+    const size_t tex_count = tex ? tex->size() / 2 : 0;
+    const std::vector<int32_t>& tex_index = mfInts(node, "texCoordIndex");
+    if (tex && tex_count == 0) tex = nullptr;
+    if (tex) {
+        bool fits = tex_index.empty() || tex_index.size() >= coord_index.size();
+        for (size_t k = 0; fits && k < coord_index.size(); ++k) {
+            if (coord_index[k] < 0) continue;
+            const int32_t i = tex_index.empty() ? coord_index[k] : tex_index[k];
+            fits = i >= 0 && static_cast<size_t>(i) < tex_count;
+        }
+        if (!fits) {
+            diagnostics_.warning(node.location, "IndexedFaceSet texture coordinates do not match its faces; ignored");
+            tex = nullptr;
+        }
+    }
+    const bool corner_uvs = tex && !tex_index.empty();
+    auto uvAt = [&](size_t i) { return Vec2((*tex)[2 * i], (*tex)[2 * i + 1]); };
+
     // Normals are kept only in the common per-coordinate form.
     const NodePtr normal_node = sfNode(node, "normal");
     const std::vector<float>* normals = normal_node ? &mfFloats(*normal_node, "vector") : nullptr;
@@ -70,13 +93,16 @@ bool Vrml97Builder::indexedFaceSet(const Node& node, Mesh& mesh) {
     if (corner_colors) normals = nullptr;
 
     // Only referenced coordinates become vertices (a Coordinate node is often shared).
+    // A corner with its own colour or texture coordinate is its own vertex.
     std::vector<uint32_t> remap;
-    std::unordered_map<uint64_t, uint32_t> corner_vertex;
-    if (!corner_colors) remap.assign(point_count, UINT32_MAX);
+    std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> corner_vertex;
+    const bool per_corner = corner_colors || corner_uvs;
+    if (!per_corner) remap.assign(point_count, UINT32_MAX);
     auto vertexFor = [&](uint32_t p, size_t corner) -> uint32_t {
         uint32_t* slot;
-        if (corner_colors) {
-            const uint64_t key = (uint64_t(p) << 32) | uint32_t(color_index[corner]);
+        if (per_corner) {
+            const auto key = std::make_tuple(p, corner_colors ? uint32_t(color_index[corner]) : 0u,
+                                             corner_uvs ? uint32_t(tex_index[corner]) : 0u);
             slot = &corner_vertex.try_emplace(key, UINT32_MAX).first->second;
         } else {
             slot = &remap[p];
@@ -87,6 +113,7 @@ bool Vrml97Builder::indexedFaceSet(const Node& node, Mesh& mesh) {
             if (normals) mesh.normals.push_back(colorAt(*normals, p));
             if (colors && color_per_vertex)
                 mesh.vertex_colors.push_back(colorAt(*colors, corner_colors ? size_t(color_index[corner]) : p));
+            if (tex) mesh.uv0.push_back(uvAt(corner_uvs ? size_t(tex_index[corner]) : p));
         }
         return *slot;
     };

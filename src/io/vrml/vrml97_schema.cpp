@@ -117,6 +117,7 @@ const std::vector<NodeSpec>& nodeSpecs() {
                                     {"direction", T::SFVec3f}, {"intensity", T::SFFloat}, {"location", T::SFVec3f},
                                     {"on", T::SFBool}, {"radius", T::SFFloat}}},
             {"Switch", R::Used, {{"choice", T::MFNode}, {"whichChoice", T::SFInt32}}},
+            {"TextureCoordinate", R::Used, {{"point", T::MFVec2f}}},
             {"Transform", R::Used, withBbox({{"center", T::SFVec3f}, {"children", T::MFNode}, {"rotation", T::SFRotation},
                                              {"scale", T::SFVec3f}, {"scaleOrientation", T::SFRotation},
                                              {"translation", T::SFVec3f}})},
@@ -130,7 +131,7 @@ const std::vector<NodeSpec>& nodeSpecs() {
              {"AudioClip", "Background", "ColorInterpolator", "CoordinateInterpolator", "CylinderSensor", "Fog",
               "FontStyle", "MovieTexture", "NavigationInfo", "NormalInterpolator", "OrientationInterpolator",
               "PixelTexture", "PlaneSensor", "PositionInterpolator", "ProximitySensor", "ScalarInterpolator",
-              "Script", "Sound", "SphereSensor", "TextureCoordinate", "TextureTransform", "TimeSensor",
+              "Script", "Sound", "SphereSensor", "TextureTransform", "TimeSensor",
               "TouchSensor", "VisibilitySensor", "WorldInfo"})
             specs.push_back({ignored, R::Ignored, {}});
         std::sort(specs.begin(), specs.end(), [](const NodeSpec& a, const NodeSpec& b) { return a.type < b.type; });

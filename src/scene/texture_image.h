@@ -1,0 +1,43 @@
+#pragma once
+// Texture images read from files (PNG, JPEG, TGA, BMP, GIF, PSD, HDR, PNM: what stb_image
+// reads). texture_image.cpp is the only file that includes stb_image.h.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace radbake {
+
+struct TextureImage {
+    int width = 0;
+    int height = 0;
+    int channels = 0;           // in the file: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+    std::vector<float> values;  // `channels` per texel, row 0 = the image's top row, linear
+
+    // Colour (grey replicated) and alpha (1 without an alpha channel) of texel (x, y),
+    // wrapped by repeat.
+    Vec4 texel(int64_t x, int64_t y) const;
+    bool hasAlpha() const { return channels == 2 || channels == 4; }
+};
+
+// Decodes an image into linear values: 8- and 16-bit colour channels are decoded from sRGB
+// when `srgb` (colour textures; normal maps are data), HDR files are linear already; alpha
+// is never sRGB. nullopt with `error` set when the file cannot be read or decoded.
+// The image is the file at texture.path, or texture.embedded when set.
+std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error);
+
+// The image as 8-bit RGBA bytes as stored (no colour conversion; HDR is mapped by stb_image's
+// default 1/2.2 gamma), for re-encoding to PNG. False with `error` set when it cannot be read.
+bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error);
+
+// The channel count the file holds (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), 0 when it
+// cannot be read: cheap, it reads the header only.
+int imageChannels(const TextureRef& texture);
+
+// sRGB transfer function (IEC 61966-2-1), encoded in [0, 1] -> linear.
+float srgbToLinear(float encoded);
+
+}  // namespace radbake
