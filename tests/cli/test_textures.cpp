@@ -448,3 +448,38 @@ TEST_CASE("textures: a glb's embedded texture is read from the glb: radbake's ow
     // The texture is inside the glb: no other input.
     CHECK(scene->input_files == std::vector<std::string>{fs::path(glb).lexically_normal().string()});
 }
+
+TEST_CASE("textures: VRML97 default texture coordinates: a face set's bounding box, an ElevationGrid's grid") {
+    const TempDir tmp;
+    writePng(tmp.path / "half.png", 2, 1, 3, {0, 0, 0, 128, 128, 128});  // left black, right sRGB 128
+    writeText(tmp.path / "scene.wrl",
+              "#VRML V2.0 utf8\n"
+              "Shape { appearance Appearance { texture ImageTexture { url \"half.png\" } }\n"
+              "  geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 2 0 0, 2 0 1, 1 0 1, 0 0 1 ] }\n"
+              "    coordIndex [ 0 5 4 1 -1, 1 4 3 2 -1 ] } }\n"
+              "Shape { appearance Appearance { texture ImageTexture { url \"half.png\" } }\n"
+              "  geometry ElevationGrid { xDimension 3 zDimension 2 height [ 0 0 0, 0 0 0 ] } }\n"
+              "Shape { appearance Appearance { texture ImageTexture { url \"half.png\" } }\n"
+              "  geometry ElevationGrid { xDimension 3 zDimension 2 height [ 0 0 0, 0 0 0 ]\n"
+              "    texCoord TextureCoordinate { point [ 1 0, 0.5 0, 0 0, 1 1, 0.5 1, 0 1 ] } } }\n");
+    Diagnostics diagnostics;
+    const std::optional<Scene> scene = importScene((tmp.path / "scene.wrl").string(), {}, diagnostics);
+    REQUIRE(scene);
+    REQUIRE(scene->meshes.size() == 3);
+    const float grey = static_cast<float>(srgbDecoded(128));
+    // The face set: s = x / 2 (x is the longest side), t = z / 2.
+    const Mesh& faces = scene->meshes[0];
+    REQUIRE(faces.uv0.size() == faces.positions.size());
+    for (size_t v = 0; v < faces.positions.size(); ++v)
+        CHECK(faces.uv0[v] == Vec2(faces.positions[v].x / 2.0f, faces.positions[v].z / 2.0f));
+    REQUIRE(faces.polygon_reflectance.size() == 2);
+    CHECK(faces.polygon_reflectance[0] == Vec3(0.0f));
+    CHECK(faces.polygon_reflectance[1].x == doctest::Approx(grey).epsilon(1e-6));
+    // The grid: s = i / 2, t = j; then the given coordinates, mirrored in s.
+    REQUIRE(scene->meshes[1].polygon_reflectance.size() == 2);
+    CHECK(scene->meshes[1].polygon_reflectance[0] == Vec3(0.0f));
+    CHECK(scene->meshes[1].polygon_reflectance[1].x == doctest::Approx(grey).epsilon(1e-6));
+    REQUIRE(scene->meshes[2].polygon_reflectance.size() == 2);
+    CHECK(scene->meshes[2].polygon_reflectance[0].x == doctest::Approx(grey).epsilon(1e-6));
+    CHECK(scene->meshes[2].polygon_reflectance[1] == Vec3(0.0f));
+}

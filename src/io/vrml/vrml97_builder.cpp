@@ -294,6 +294,9 @@ void Vrml97Builder::shape(const Node& node, const DMat4& m) {
     }
     if (!ok || mesh.triangles.empty()) return;
     mesh.material = materialFor(sfNode(node, "appearance"));
+    // A textured face set without texCoord gets the default mapping, in object space.
+    if (type == "IndexedFaceSet" && mesh.uv0.empty() && !scene_.materials[mesh.material].base_color_texture.empty())
+        defaultTextureCoordinates(mesh);
     finishMesh(std::move(mesh), *geometry, m);
 }
 

@@ -11,6 +11,9 @@
 
 namespace radbake::vrml {
 
+// The default texture coordinates of an IndexedFaceSet without texCoord (object space).
+void defaultTextureCoordinates(Mesh& mesh);
+
 // Reads VRML97 text (header included) from `path`; the entry point vrml::readText uses.
 bool readVrml97(std::string_view text, const std::string& path, const VrmlOptions& options,
                 std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics);

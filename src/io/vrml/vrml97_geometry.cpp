@@ -185,6 +185,21 @@ bool Vrml97Builder::elevationGrid(const Node& node, Mesh& mesh) {
     if (colors && per_vertex)
         for (size_t v = 0; v < needed; ++v) mesh.vertex_colors.push_back(colorAt(*colors, v));
 
+    // Texture coordinates per grid point: texCoord's, else the default (ISO/IEC 14772-1 6.15:
+    // s from 0 to 1 along x, t along z).
+    const NodePtr tex_node = sfNode(node, "texCoord");
+    const std::vector<float>* tex = tex_node ? &mfFloats(*tex_node, "point") : nullptr;
+    if (tex && tex->size() / 2 < size_t(nx * nz)) {
+        diagnostics_.warning(node.location, "ElevationGrid has too few texture coordinates; the default ones are used");
+        tex = nullptr;
+    }
+    for (int64_t j = 0; j < nz; ++j)
+        for (int64_t i = 0; i < nx; ++i) {
+            const size_t v = size_t(i + j * nx);
+            mesh.uv0.push_back(tex ? Vec2((*tex)[2 * v], (*tex)[2 * v + 1])
+                                   : Vec2(float(i) / float(nx - 1), float(j) / float(nz - 1)));
+        }
+
     // (i,j) (i,j+1) (i+1,j+1) (i+1,j) runs counter-clockwise seen from +Y.
     for (int64_t j = 0; j + 1 < nz; ++j)
         for (int64_t i = 0; i + 1 < nx; ++i) {
@@ -323,6 +338,30 @@ bool Vrml97Builder::extrusion(const Node& node, Mesh& mesh) {
         }
     }
     return mesh.polygon_count > 0;
+}
+
+}  // namespace radbake::vrml
+
+namespace radbake::vrml {
+
+void defaultTextureCoordinates(Mesh& mesh) {
+    // ISO/IEC 14772-1 6.23: s along the bounding box's longest side from 0 to 1, t along the
+    // next longest from 0 to its length over the longest; ties go to X, then Y, then Z.
+    if (mesh.positions.empty()) return;
+    DVec3 lo(mesh.positions.front()), hi(lo);
+    for (const Vec3& p : mesh.positions) {
+        lo = glm::min(lo, DVec3(p));
+        hi = glm::max(hi, DVec3(p));
+    }
+    const DVec3 size = hi - lo;
+    int axes[3] = {0, 1, 2};
+    std::stable_sort(axes, axes + 3, [&](int a, int b) { return size[a] > size[b]; });
+    const double longest = size[axes[0]];
+    if (!(longest > 0.0)) return;
+    mesh.uv0.clear();
+    for (const Vec3& p : mesh.positions)
+        mesh.uv0.emplace_back(static_cast<float>((p[axes[0]] - lo[axes[0]]) / longest),
+                              static_cast<float>((p[axes[1]] - lo[axes[1]]) / longest));
 }
 
 }  // namespace radbake::vrml
