@@ -34,14 +34,6 @@ std::string defaultScene() {
     return (std::filesystem::path(__FILE__).parent_path().parent_path() / "scenes" / "cornell_box.wrl").string();
 }
 
-RgbImage toRgbImage(const LightmapImage& image) {
-    RgbImage out;
-    out.width = image.width;
-    out.height = image.height;
-    out.rgb = image.rgb;
-    return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {

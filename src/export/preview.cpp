@@ -121,6 +121,14 @@ bool writePreviewPng(const std::filesystem::path& path, const RgbImage& linear, 
     return writeFileBytes(path, png, diagnostics);
 }
 
+RgbImage toRgbImage(const LightmapImage& image) {
+    RgbImage out;
+    out.width = image.width;
+    out.height = image.height;
+    out.rgb = image.rgb;
+    return out;
+}
+
 double autoExposure(const RgbImage& linear) {
     if (!consistent(linear)) return 1.0;
     // Serial, in pixel order: the same sum, bit for bit, every time.

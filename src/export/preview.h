@@ -41,6 +41,9 @@ bool writePreviewPng(const std::filesystem::path& path, const RgbImage& linear, 
 // image (or one with no finite positive luminance).
 double autoExposure(const RgbImage& linear);
 
+// A lightmap atlas as an image to encode or write (its texel states dropped).
+RgbImage toRgbImage(const LightmapImage& image);
+
 // L / (1 + L) = 0.2158605 (the linear value of sRGB 128 / 255) gives L = 0.2752833.
 inline constexpr double kPreviewKey = 0.2752833;
 

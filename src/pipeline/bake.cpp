@@ -19,14 +19,6 @@ namespace {
 constexpr int kPreviewWidth = 800;
 constexpr int kPreviewHeight = 600;
 
-RgbImage toRgbImage(const LightmapImage& image) {
-    RgbImage out;
-    out.width = image.width;
-    out.height = image.height;
-    out.rgb = image.rgb;
-    return out;
-}
-
 // False (after reporting) when there is nothing to bake; warns when every value would be 0.
 bool checkBakeable(const Scene& scene, Diagnostics& diagnostics) {
     const SourceLocation where{scene.source_path, 0, 0};

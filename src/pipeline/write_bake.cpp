@@ -48,10 +48,7 @@ bool stageLightmapExrs(OutputTransaction& transaction, const Bake& bake, Diagnos
     const std::vector<LightmapImage>& images = baked.lightmaps.images;
     const auto attributes = provenance(bake);
     for (size_t k = 0; k < images.size(); ++k) {
-        RgbImage image;
-        image.width = images[k].width;
-        image.height = images[k].height;
-        image.rgb = images[k].rgb;
+        RgbImage image = toRgbImage(images[k]);
         image.attributes = attributes;
         image.attributes.emplace_back("radbake:atlas", std::to_string(k) + " of " + std::to_string(images.size()));
         image.attributes.emplace_back("radbake:quantity", "H/pi: irradiance over pi, W m^-2 sr^-1, linear");

@@ -253,4 +253,20 @@ FormFactorEstimate polygonFormFactor(const PolygonView& receiver, const PolygonV
     return estimate;
 }
 
+double gaussAveragedFormFactor(std::span<const DVec3> q, const DVec3& quad_normal, std::span<const DVec3> source,
+                               const DVec3& source_normal) {
+    constexpr double kG = 0.28867513459481288225;  // 1 / (2 sqrt 3): Gauss points at 0.5 -+ kG
+    double sum = 0.0, weight = 0.0;
+    for (const double u : {0.5 - kG, 0.5 + kG})
+        for (const double v : {0.5 - kG, 0.5 + kG}) {
+            const DVec3 p = (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
+            const DVec3 du = (1 - v) * (q[1] - q[0]) + v * (q[2] - q[3]);
+            const DVec3 dv = (1 - u) * (q[3] - q[0]) + u * (q[2] - q[1]);
+            const double w = std::abs(glm::dot(glm::cross(du, dv), quad_normal));
+            sum += w * pointPolygonFormFactor(p, quad_normal, source, source_normal);
+            weight += w;
+        }
+    return weight > 0.0 ? sum / weight : 0.0;
+}
+
 }  // namespace radbake

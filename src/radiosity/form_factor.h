@@ -19,6 +19,12 @@ namespace radbake {
 double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span<const DVec3> source,
                               const DVec3& source_normal);
 
+// pointPolygonFormFactor averaged over a quad receiver (its bilinear patch) with 2 x 2 Gauss
+// points, weighted by the patch's area element: where the receiver touches the source the
+// centroid alone is biased (solve.cpp's leaf row sums, cluster.cpp's kernels).
+double gaussAveragedFormFactor(std::span<const DVec3> quad, const DVec3& quad_normal, std::span<const DVec3> source,
+                               const DVec3& source_normal);
+
 struct QuadratureOptions {
     // A receiver cell is integrated with its order x order Gauss rule once its distance to the source
     // exceeds `near_ratio` times its radius; otherwise it is split (up to max_depth levels).

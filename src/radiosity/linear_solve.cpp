@@ -58,19 +58,7 @@ struct Operator {
         const PolygonView poly = polygonOf(s, leaf);
         if (poly.vertices.size() != 4)
             return pointPolygonFormFactor(leaf.centroid, leaf.normal, source.vertices, source.normal);
-        const auto& q = poly.vertices;
-        constexpr double kG = 0.28867513459481288225;
-        double sum = 0.0, weight = 0.0;
-        for (const double u : {0.5 - kG, 0.5 + kG})
-            for (const double v : {0.5 - kG, 0.5 + kG}) {
-                const DVec3 p = (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
-                const DVec3 du = (1 - v) * (q[1] - q[0]) + v * (q[2] - q[3]);
-                const DVec3 dv = (1 - u) * (q[3] - q[0]) + u * (q[2] - q[1]);
-                const double w = std::abs(glm::dot(glm::cross(du, dv), leaf.normal));
-                sum += w * pointPolygonFormFactor(p, leaf.normal, source.vertices, source.normal);
-                weight += w;
-            }
-        return weight > 0.0 ? sum / weight : 0.0;
+        return gaussAveragedFormFactor(poly.vertices, leaf.normal, source.vertices, source.normal);
     }
 
     void computeCorrections() {
