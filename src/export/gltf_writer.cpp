@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 
+#include "bake/lightmap_charts.h"
 #include "export/json_detail.h"
 #include "export/mesh_attributes.h"
 #include "export/output_transaction.h"
@@ -386,6 +387,25 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     for (size_t i = 0; i < scene.materials.size(); ++i)
         materials.push_back(materialJson(scene.materials[i], textured[i], textures, lists, bin, uses_strength));
 
+    // Viewpoints become cameras, so the baked scene opens framed: glTF's camera looks down -Z
+    // with +Y up, as VRML's does; yfov is VRML's fieldOfView (the smaller angle: the vertical
+    // one of a landscape view). The near plane scales with the scene (1e-4 of its diagonal).
+    GltfJson cameras = GltfJson::array();
+    const double znear = 1e-4 * lightmapExtent(scene);
+    for (size_t k = 0; k < scene.cameras.size(); ++k) {
+        const Camera& camera = scene.cameras[k];
+        const Quat q = glm::normalize(camera.orientation);
+        const float yfov = std::clamp(camera.field_of_view, 1e-3f, 3.1f);
+        const std::string name = camera.name.empty() ? "Viewpoint " + std::to_string(k) : camera.name;
+        cameras.push_back({{"name", name},
+                           {"type", "perspective"},
+                           {"perspective", {{"yfov", yfov}, {"znear", static_cast<float>(znear)}}}});
+        lists.nodes.push_back({{"name", name},
+                               {"camera", k},
+                               {"translation", {camera.position.x, camera.position.y, camera.position.z}},
+                               {"rotation", {q.x, q.y, q.z, q.w}}});
+    }
+
     GltfJson node_indices = GltfJson::array();
     for (size_t i = 0; i < lists.nodes.size(); ++i) node_indices.push_back(i);
 
@@ -402,6 +422,7 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     root["scenes"] = GltfJson::array({{{"name", scene.name}, {"nodes", std::move(node_indices)}}});
     root["nodes"] = std::move(lists.nodes);
     root["meshes"] = std::move(lists.meshes);
+    if (!cameras.empty()) root["cameras"] = std::move(cameras);
     if (!materials.empty()) root["materials"] = std::move(materials);
     if (!textures.textures.empty()) {
         root["textures"] = std::move(textures.textures);

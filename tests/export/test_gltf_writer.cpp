@@ -436,3 +436,35 @@ TEST_CASE("glb with lightmaps writes a mesh without charts as before, and refuse
     REQUIRE(diagnostics.errorCount() == 2);
     CHECK(diagnostics.all()[1].message == "internal: lightmap meshes for 2 meshes, scene has 3");
 }
+
+TEST_CASE("glb cameras: each Viewpoint becomes a perspective camera on a node of the scene") {
+    Scene scene = literalScene();
+    Camera view;
+    view.name = "Entrance";
+    view.position = Vec3(1.0f, 2.0f, 3.0f);
+    view.orientation = glm::angleAxis(0.5f, glm::normalize(Vec3(0.0f, 1.0f, 1.0f)));
+    view.field_of_view = 0.6f;
+    scene.cameras.push_back(view);
+    scene.cameras.push_back(Camera{});  // unnamed: a name is made up
+    Diagnostics diagnostics;
+    const Glb glb = splitGlb(encodeGlb(scene, literalBake(), {"radbake test"}, diagnostics));
+    CHECK_FALSE(diagnostics.hasErrors());
+    const nlohmann::json& json = glb.json;
+    REQUIRE(json.at("cameras").size() == 2);
+    const nlohmann::json& camera = json.at("cameras").at(0);
+    CHECK(camera.at("type") == "perspective");
+    CHECK(camera.at("perspective").at("yfov").get<double>() == doctest::Approx(0.6));
+    CHECK(camera.at("perspective").at("znear").get<double>() > 0.0);
+    CHECK(json.at("cameras").at(1).at("name") == "Viewpoint 1");
+    // Mesh nodes first, then one node per camera, all in the scene.
+    REQUIRE(json.at("nodes").size() == 4);
+    CHECK(json.at("scenes").at(0).at("nodes").size() == 4);
+    const nlohmann::json& node = json.at("nodes").at(2);
+    CHECK(node.at("name") == "Entrance");
+    CHECK(node.at("camera") == 0);
+    CHECK(node.at("translation").at(2).get<double>() == doctest::Approx(3.0));
+    const Quat q = glm::normalize(view.orientation);
+    CHECK(node.at("rotation").at(0).get<double>() == doctest::Approx(q.x));
+    CHECK(node.at("rotation").at(3).get<double>() == doctest::Approx(q.w));
+    CHECK(json.at("nodes").at(3).at("camera") == 1);
+}
