@@ -117,27 +117,27 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     };
     out.report.threads = runner.threads();
     if (!checkBakeable(scene, diagnostics)) return (void)stopped();
-    if (!scene.source_path.empty() && std::filesystem::is_regular_file(scene.source_path)) {
-        std::optional<std::string> hash = sha256File(scene.source_path, diagnostics);
-        if (!hash) return (void)stopped();
-        out.scene_sha256 = std::move(*hash);
-    }
-    if (!scene.input_files.empty()) {
-        std::string hashes;
-        for (const std::string& file : scene.input_files) {
-            // A texture named but absent (warned at import) is an input too: "absent" is its
-            // state, so adding the file changes the provenance.
-            std::error_code ec;
-            if (!std::filesystem::exists(file, ec)) {
-                hashes += "absent\n";
-                continue;
-            }
-            std::optional<std::string> hash = sha256File(file, diagnostics);
-            if (!hash) return (void)stopped();
-            hashes += *hash + "\n";
+    // Every input file is read once: the scene file's own hash is the first input's.
+    std::vector<std::string> inputs = scene.input_files;
+    const bool source_listed = !inputs.empty() && inputs.front() ==
+                                   std::filesystem::path(scene.source_path).lexically_normal().string();
+    if (!source_listed && !scene.source_path.empty() && std::filesystem::is_regular_file(scene.source_path))
+        inputs.insert(inputs.begin(), scene.source_path);  // a scene built in memory from a file
+    std::string hashes;
+    for (size_t i = 0; i < inputs.size(); ++i) {
+        // A texture named but absent (warned at import) is an input too: "absent" is its
+        // state, so adding the file changes the provenance.
+        std::error_code ec;
+        if (!std::filesystem::exists(inputs[i], ec)) {
+            hashes += "absent\n";
+            continue;
         }
-        out.inputs_sha256 = sha256Hex(hashes);
+        std::optional<std::string> hash = sha256File(inputs[i], diagnostics);
+        if (!hash) return (void)stopped();
+        if (i == 0 && !scene.source_path.empty()) out.scene_sha256 = *hash;
+        hashes += *hash + "\n";
     }
+    if (!scene.input_files.empty()) out.inputs_sha256 = sha256Hex(hashes);
 
     // Before the solve: a lightmap budget error should not cost a solve first.
     std::optional<LightmapCharts> charts;
@@ -171,9 +171,11 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         progress.beginPhase("lightmaps");
         const LightmapOptions used = charts->options;
         BakedLightmaps baked;
-        if (!bakeLightmaps(scene, *out.solution, std::move(*charts), runner, baked.lightmaps, diagnostics, &progress) ||
-            stopped()) {
-            if (!stopped()) out.status = BakeStatus::InputError;
+        const bool baked_ok =
+            bakeLightmaps(scene, *out.solution, std::move(*charts), runner, baked.lightmaps, diagnostics, &progress);
+        if (stopped()) return;
+        if (!baked_ok) {
+            out.status = BakeStatus::InputError;
             return;
         }
         baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
