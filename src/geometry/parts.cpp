@@ -482,6 +482,7 @@ PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& 
         }
     }
     computeStats(set);
+    set.tree = buildPartTree(set.parts);
     return set;
 }
 

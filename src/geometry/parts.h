@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "geometry/part_tree.h"
 #include "geometry/types.h"
 #include "scene/scene.h"
 
@@ -56,6 +57,9 @@ struct PartSet {
     // polygon is degenerate. A non-convex polygon may span several parts; this holds one.
     std::vector<std::vector<uint32_t>> polygon_part;
     Aabb bounds;  // of every part
+    // Boxes over the parts, for shaft culling (part_tree.h); built by buildParts. Empty for
+    // a hand-made set: candidate lists are then plain part indices.
+    PartTree tree;
 };
 
 // Never throws; problems (degenerate solids, ...) are reported as warnings/notes.

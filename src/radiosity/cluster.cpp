@@ -126,14 +126,21 @@ bool boxBehind(const Solution& s, const Element& root, const Aabb& box) {
 // points on a quad (as solve.cpp's leaf correction), 2 x 2 stratified points otherwise. The
 // centroid alone read 0.1 % high on a closed room's row sums, 10 % in its radiosity at
 // rho = 0.99.
-double averagedFormFactor(const Solution& s, const Element& j, const PolygonView& source) {
+// `points`: j's 2 x 2 stratified points when the caller has them (ClusterRefiner keeps every
+// root's), else they are made here.
+double averagedFormFactor(const Solution& s, const Element& j, const PolygonView& source,
+                          const DVec3* points = nullptr) {
     const PolygonView poly = polygonOf(s, j);
     const auto& q = poly.vertices;
     if (q.size() != 4) {
-        const auto points = stratifiedPolygonPoints(q, 2);
+        std::vector<DVec3> made;
+        if (points == nullptr) {
+            made = stratifiedPolygonPoints(q, 2);
+            points = made.data();
+        }
         double sum = 0.0;
-        for (const DVec3& p : points) sum += pointPolygonFormFactor(p, j.normal, source.vertices, source.normal);
-        return points.empty() ? 0.0 : sum / static_cast<double>(points.size());
+        for (int k = 0; k < 4; ++k) sum += pointPolygonFormFactor(points[k], j.normal, source.vertices, source.normal);
+        return sum / 4.0;
     }
     return gaussAveragedFormFactor(q, j.normal, source.vertices, source.normal);
 }
@@ -142,12 +149,12 @@ double averagedFormFactor(const Solution& s, const Element& j, const PolygonView
 // point-to-polygon form factor to polygon i averaged over j (a point kernel
 // A_i cos_i cos_j / (pi d^2) overestimates near pairs, and in a closed room those errors all
 // have one sign). 0 when either faces away.
-double pairKernel(const Solution& s, const Element& i, const Element& j) {
+double pairKernel(const Solution& s, const Element& i, const Element& j, const DVec3* j_points) {
     const DVec3 u = j.centroid - i.centroid;
     if (!(glm::dot(u, u) > 0.0)) return 0.0;
     const PolygonView source = polygonOf(s, i);
     if (!facing(polygonOf(s, j), source)) return 0.0;
-    return averagedFormFactor(s, j, source);
+    return averagedFormFactor(s, j, source, j_points);
 }
 
 // Separable kernel K_ji ~ s_i r_j: the product form f(x, y) ~ f(x, c_R) f(c_S, y) / f(c_S, c_R)
@@ -169,6 +176,49 @@ double receiverCosine(const Element& j, const DVec3& c_s, const DVec3& c_r) {
     if (!(cos_d > 0.0) || !(d2 > 0.0)) return 0.0;
     const DVec3 w = c_s - c_r;
     return cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2);
+}
+
+// Removes from a candidate list the flat parts lying in `plane` (a flat cluster's own
+// parts: a segment leaving the plane cannot be blocked by them). A tree node wholly off the
+// plane stays one entry; one that meets it is opened, down to its parts where needed.
+void dropFlatPartsInPlane(const PartSet& parts, const Plane& plane, double tolerance,
+                          std::vector<uint32_t>& candidates) {
+    auto in_plane = [&](uint32_t index) {
+        const ConvexPart& part = parts.parts[index];
+        if (part.closed) return false;
+        for (const DVec3& p : part.vertices)
+            if (std::abs(plane.eval(p)) > tolerance) return false;
+        return true;
+    };
+    std::vector<uint32_t> kept;
+    kept.reserve(candidates.size());
+    std::vector<uint32_t> todo;
+    for (uint32_t entry : candidates) {
+        if (!(entry & kPartNode)) {
+            if (!in_plane(entry)) kept.push_back(entry);
+            continue;
+        }
+        todo.assign(1, entry & ~kPartNode);
+        while (!todo.empty()) {
+            const uint32_t index = todo.back();
+            todo.pop_back();
+            const PartNode& node = parts.tree.nodes[index];
+            const DVec3 centre = node.box.center(), half = 0.5 * node.box.extent();
+            const double reach = std::abs(plane.normal.x) * half.x + std::abs(plane.normal.y) * half.y +
+                                 std::abs(plane.normal.z) * half.z;
+            const double at = plane.eval(centre);
+            if (at - reach > tolerance || at + reach < -tolerance) {
+                kept.push_back(index | kPartNode);  // wholly off the plane
+            } else if (node.isLeaf()) {
+                for (uint32_t k = node.first; k < node.first + node.count; ++k)
+                    if (!in_plane(parts.tree.order[k])) kept.push_back(parts.tree.order[k]);
+            } else {
+                todo.push_back(node.first_child + 1);
+                todo.push_back(node.first_child);
+            }
+        }
+    }
+    candidates = std::move(kept);
 }
 
 OcclusionTest occlusionTestFor(LinkVisibility mode) {
@@ -209,6 +259,7 @@ constexpr size_t kCalibrationPairs = 16;
 // Visibility samples of a member: the 2 x 2 stratified points visibleFraction uses.
 constexpr int kMemberSamples = 2;
 constexpr int kPointsPerMember = kMemberSamples * kMemberSamples;
+static_assert(kMemberSamples == 2, "averagedFormFactor reuses the members' 2 x 2 sample points");
 constexpr int kRaysPerPair = 1;
 constexpr int kRaysPerMember = 3;  // separable links: each member casts this many, to spread partners
 // Points this close to a plane (fraction of the scene's extent) lie in it: above float
@@ -306,6 +357,12 @@ ClusterRefiner::ClusterRefiner(RefineState& state) : state_(state) {
     const Solution& s = state.solution;
     root_box_.resize(s.root_count);
     for (uint32_t r = 0; r < s.root_count; ++r) root_box_[r] = polygonBox(s, s.elements[r]);
+    // Every member's visibility samples, once (they were most of the cost of a kept link).
+    root_points_.resize(size_t(s.root_count) * kPointsPerMember);
+    for (uint32_t r = 0; r < s.root_count; ++r) {
+        const auto p = stratifiedPolygonPoints(polygonOf(s, s.elements[r]).vertices, kMemberSamples);
+        for (int q = 0; q < kPointsPerMember; ++q) root_points_[size_t(r) * kPointsPerMember + q] = p[q % p.size()];
+    }
     cluster_rho_.assign(s.clusters.size(), 0.0);
     cluster_radius_.assign(s.clusters.size(), 0.0);
     for (size_t c = s.clusters.size(); c-- > 0;) {
@@ -527,7 +584,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             // every crossing part of long lists cost 70 % of house.wrl's refinement and killed
             // nothing there; the sub-links test their shorter lists, and a link kept with a
             // long list gets rays.
-            const size_t list_size = state_.candidate_pool[link.candidates].size();
+            const size_t list_size = candidatePartCount(state_.parts, state_.candidate_pool[link.candidates]);
             query.test = list_size > kCullOnlyListSize ? OcclusionTest::None : test;
             query.polygon_shaft = false;
             query.excluded = excluded;
@@ -536,15 +593,8 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             ev.shaft = true;
             for (const uint32_t node : {r_node, s_node}) {
                 if (!isCluster(node) || !cluster_flat_[clusterOf(node)] || result.candidates.empty()) continue;
-                const Plane& plane = cluster_plane_[clusterOf(node)];
-                const double tolerance = kCoplanarTolerance * s.scene_extent;
-                std::erase_if(result.candidates, [&](uint32_t index) {
-                    const ConvexPart& part = state_.parts.parts[index];
-                    if (part.closed) return false;
-                    for (const DVec3& p : part.vertices)
-                        if (std::abs(plane.eval(p)) > tolerance) return false;
-                    return true;
-                });
+                dropFlatPartsInPlane(state_.parts, cluster_plane_[clusterOf(node)],
+                                     kCoplanarTolerance * s.scene_extent, result.candidates);
             }
             if (result.occluded) {
                 ev.occluded = true;
@@ -571,24 +621,11 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             return ev;
         }
         const Range rm = membersOf(s, r_node), sm = membersOf(s, s_node);
-        // Sample points on members (only when rays are needed).
-        std::vector<DVec3> points;
-        auto member_points = [&](Range range, size_t offset) {
-            for (uint32_t k = 0; k < range.count; ++k) {
-                const auto p = stratifiedPolygonPoints(
-                    polygonOf(s, s.elements[s.cluster_members[range.first + k]]).vertices, kMemberSamples);
-                for (int q = 0; q < kPointsPerMember; ++q)
-                    points[offset + size_t(k) * kPointsPerMember + q] = p[q % p.size()];
-            }
+        auto src_point = [&](uint32_t i, int q) {
+            return root_points_[size_t(s.cluster_members[sm.first + i]) * kPointsPerMember + q % kPointsPerMember];
         };
-        if (!visible) {
-            points.resize(size_t(sm.count + rm.count) * kPointsPerMember);
-            member_points(sm, 0);
-            member_points(rm, size_t(sm.count) * kPointsPerMember);
-        }
-        auto src_point = [&](uint32_t i, int q) { return points[size_t(i) * kPointsPerMember + q % kPointsPerMember]; };
-        auto rcv_point = [&](uint32_t j, int q) {
-            return points[(size_t(sm.count) + j) * kPointsPerMember + q % kPointsPerMember];
+        auto rcv_point = [&](uint32_t j, int q) -> const DVec3& {
+            return root_points_[size_t(s.cluster_members[rm.first + j]) * kPointsPerMember + q % kPointsPerMember];
         };
         if (size_t(rm.count) * sm.count <= kPairwiseLimit) {
             ev.kernel.assign(size_t(sm.count) * rm.count, 0.0);
@@ -597,7 +634,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 const Element& ei = s.elements[s.cluster_members[sm.first + i]];
                 for (uint32_t j = 0; j < rm.count; ++j) {
                     const Element& ej = s.elements[s.cluster_members[rm.first + j]];
-                    double k = pairKernel(s, ei, ej);
+                    double k = pairKernel(s, ei, ej, &rcv_point(j, 0));
                     if (!(k > 0.0)) continue;
                     if (!visible) {
                         int open = 0;
@@ -636,9 +673,10 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             const size_t pairs = std::min(kCalibrationPairs, sf.size() * rf.size());
             for (size_t t = 0; t < pairs; ++t) {
                 const Element& ei = s.elements[s.cluster_members[sm.first + sf[(t * 7) % sf.size()]]];
-                const Element& ej = s.elements[s.cluster_members[rm.first + rf[(t * 5 + t / sf.size()) % rf.size()]]];
+                const uint32_t j = rf[(t * 5 + t / sf.size()) % rf.size()];
+                const Element& ej = s.elements[s.cluster_members[rm.first + j]];
                 product += sourceWeight(ei, c_r) * receiverCosine(ej, c_s, c_r);
-                exact += averagedFormFactor(s, ej, polygonOf(s, ei));
+                exact += averagedFormFactor(s, ej, polygonOf(s, ei), &rcv_point(j, 0));
             }
             if (product > 0.0) ev.scale = static_cast<float>(exact / product);
         }
@@ -731,7 +769,8 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 // Split: the children classify against this link's list, or its parent's when this
                 // one culled little (lists of thousands of parts per link were most of the memory).
                 uint32_t list = ev.list;
-                if (ev.new_list && 4 * ev.candidates.size() > 3 * state_.candidate_pool[link.candidates].size()) {
+                if (ev.new_list && 4 * candidatePartCount(state_.parts, ev.candidates) >
+                                       3 * candidatePartCount(state_.parts, state_.candidate_pool[link.candidates])) {
                     list = link.candidates;
                 } else if (ev.new_list) {
                     list = static_cast<uint32_t>(state_.candidate_pool.size());

@@ -1,5 +1,6 @@
 // Classification of a link's candidate parts against its shaft.
 #include <algorithm>
+#include <array>
 #include <exception>
 
 #include "visibility/occlusion.h"
@@ -45,7 +46,7 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
     result.fell_back = false;
     result.occluder = kNoPart;
     result.candidates.clear();
-    result.tested = result.outside_aabb = result.outside_obb = result.occlusion_tests = 0;
+    result.tested = result.tested_nodes = result.outside_aabb = result.outside_obb = result.occlusion_tests = 0;
     try {
         const Shaft shaft = query.polygon_shaft
                                 ? shaftBetweenPolygons(query.source, query.receiver)
@@ -61,20 +62,21 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
                 box_shaft = &box_shaft_storage;
             }
         }
-        result.candidates.reserve(parent_candidates.size());
-        for (uint32_t index : parent_candidates) {
-            if (index >= parts.parts.size() || isExcluded(query.excluded, index)) continue;
-            const ConvexPart& part = parts.parts[index];
+        result.candidates.reserve(std::min<size_t>(parent_candidates.size(), 1024));
+        // One part: AABB, then OBB culling and the occlusion test. True to stop (occluded).
+        auto visit_part = [&](uint32_t index, const Aabb& box) {
+            if (index >= parts.parts.size() || isExcluded(query.excluded, index)) return false;
             ++result.tested;
-            if (classifyAabb(shaft, part.aabb) == Side::Outside) {
+            if (classifyAabb(shaft, box) == Side::Outside) {
                 ++result.outside_aabb;
-                continue;
+                return false;
             }
+            const ConvexPart& part = parts.parts[index];
             if (query.test != OcclusionTest::None) {
                 ObbPlaneCache cache;
                 if (classifyObb(shaft, part.obb, cache) == Side::Outside) {
                     ++result.outside_obb;
-                    continue;
+                    return false;
                 }
                 ++result.occlusion_tests;
                 bool occludes = false;
@@ -88,10 +90,46 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
                 if (occludes && !result.occluded) {
                     result.occluded = true;
                     result.occluder = index;
-                    if (query.stop_at_occluder) return;
+                    if (query.stop_at_occluder) return true;
                 }
             }
             result.candidates.push_back(index);
+            return false;
+        };
+        // A tree node (part_tree.h): outside drops every part below it with one test; wholly
+        // inside it stays one entry when only boxes are tested (no part below is excluded);
+        // otherwise its children are classified in turn, depth first.
+        const PartTree& tree = parts.tree;
+        std::array<uint32_t, 128> stack;
+        for (uint32_t entry : parent_candidates) {
+            if (!(entry & kPartNode)) {
+                if (entry < parts.parts.size() && visit_part(entry, parts.parts[entry].aabb)) return;
+                continue;
+            }
+            if ((entry & ~kPartNode) >= tree.nodes.size()) continue;
+            size_t top = 0;
+            stack[top++] = entry & ~kPartNode;
+            while (top > 0) {
+                const uint32_t index = stack[--top];
+                const PartNode& node = tree.nodes[index];
+                ++result.tested_nodes;
+                const BoxSide side = classifyAabbInside(shaft, node.box);
+                if (side == BoxSide::Outside) continue;
+                if (side == BoxSide::Inside && query.test == OcclusionTest::None &&
+                    std::none_of(query.excluded.begin(), query.excluded.end(),
+                                 [&](uint32_t part) { return tree.holds(index, part); })) {
+                    result.candidates.push_back(index | kPartNode);
+                    continue;
+                }
+                // A leaf, or deeper than the stack (never for a balanced tree): part by part.
+                if (node.isLeaf() || top + 2 > stack.size()) {
+                    for (uint32_t k = node.first; k < node.first + node.count; ++k)
+                        if (visit_part(tree.order[k], tree.boxes[k])) return;
+                    continue;
+                }
+                stack[top++] = node.first_child + 1;
+                stack[top++] = node.first_child;
+            }
         }
     } catch (const std::exception&) {
         // Only allocation can throw here. Keep every input part as a candidate and claim no
@@ -112,9 +150,33 @@ ShaftResult classifyLink(const PartSet& parts, std::span<const uint32_t> parent_
 }
 
 std::vector<uint32_t> allParts(const PartSet& parts) {
+    if (!parts.tree.empty()) return {kPartNode};  // the tree's root
     std::vector<uint32_t> all(parts.parts.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
     return all;
+}
+
+size_t candidatePartCount(const PartSet& parts, std::span<const uint32_t> candidates) {
+    size_t count = 0;
+    for (uint32_t entry : candidates) {
+        const uint32_t node = entry & ~kPartNode;
+        count += !(entry & kPartNode) ? 1 : node < parts.tree.nodes.size() ? parts.tree.nodes[node].count : 0;
+    }
+    return count;
+}
+
+std::vector<uint32_t> expandCandidates(const PartSet& parts, std::span<const uint32_t> candidates) {
+    std::vector<uint32_t> out;
+    for (uint32_t entry : candidates) {
+        const uint32_t node = entry & ~kPartNode;
+        if (!(entry & kPartNode)) {
+            out.push_back(entry);
+        } else if (node < parts.tree.nodes.size()) {
+            const PartNode& n = parts.tree.nodes[node];
+            out.insert(out.end(), parts.tree.order.begin() + n.first, parts.tree.order.begin() + n.first + n.count);
+        }
+    }
+    return out;
 }
 
 std::vector<uint32_t> partsOfPolygon(const PartSet& parts, uint32_t mesh, uint32_t polygon) {

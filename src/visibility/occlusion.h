@@ -54,9 +54,12 @@ struct ShaftQuery {
 struct ShaftResult {
     bool occluded = false;
     uint32_t occluder = kNoPart;        // the part found occluding (first one)
-    std::vector<uint32_t> candidates;   // crossing parts: a subset of the input, same order
+    // Crossing parts, in input order (a tree node's parts depth first); with
+    // OcclusionTest::None, a tree node wholly inside the shaft stays one entry (kPartNode).
+    std::vector<uint32_t> candidates;
     // Counters for statistics.
     uint32_t tested = 0;            // parts classified (excluded ones are not counted)
+    uint32_t tested_nodes = 0;      // part-tree nodes classified
     uint32_t outside_aabb = 0;      // culled by the AABB test
     uint32_t outside_obb = 0;       // culled by the OBB test after passing the AABB test
     uint32_t occlusion_tests = 0;   // occlusion tests run
@@ -65,10 +68,10 @@ struct ShaftResult {
     bool fell_back = false;
 };
 
-// Classifies `parent_candidates` (indices into parts.parts; the parent link's list, or every
-// part) against the shaft of query.source -> query.receiver. An allocation failure gives the
-// conservative answer (fell_back); only failing to allocate that answer's candidate list
-// throws (std::bad_alloc, which the solver's boundary reports).
+// Classifies `parent_candidates` (indices into parts.parts or kPartNode | tree node: the
+// parent link's list, or allParts) against the shaft of query.source -> query.receiver. An
+// allocation failure gives the conservative answer (fell_back); only failing to allocate
+// that answer's candidate list throws (std::bad_alloc, which the solver's boundary reports).
 ShaftResult classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candidates,
                          const ShaftQuery& query);
 // Same, writing into `result` (its candidate vector's capacity is reused).
@@ -81,8 +84,12 @@ PartVsShaft classifyPart(const ConvexPart& part, const Shaft& shaft, const Shaft
                          std::span<const DVec3> source, std::span<const DVec3> receiver,
                          OcclusionTest test);
 
-// Every part index 0..n-1 (the root candidate list).
+// The root candidate list: the tree's root node, or every part index 0..n-1 without a tree.
 std::vector<uint32_t> allParts(const PartSet& parts);
+
+// Parts named by a candidate list (a node counts its parts), and the list as part indices.
+size_t candidatePartCount(const PartSet& parts, std::span<const uint32_t> candidates);
+std::vector<uint32_t> expandCandidates(const PartSet& parts, std::span<const uint32_t> candidates);
 
 // The parts covering polygon `polygon` of mesh `mesh` (normally one; a non-convex polygon
 // may be split over several): what a solver excludes for an element of that polygon.

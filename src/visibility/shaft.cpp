@@ -253,6 +253,26 @@ Side classifyAabb(const Shaft& shaft, const Aabb& box) {
     return Side::Crossing;
 }
 
+BoxSide classifyAabbInside(const Shaft& shaft, const Aabb& box) {
+    const double tol =
+        shaftTolerance(std::max({shaft.scale, maxAbs(box.min), maxAbs(box.max)}));
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+        if (box.min[k] > shaft.box.max[k] + tol || box.max[k] < shaft.box.min[k] - tol) return BoxSide::Outside;
+        inside = inside && box.min[k] >= shaft.box.min[k] && box.max[k] <= shaft.box.max[k];
+    }
+    const DVec3 center = box.center();
+    const DVec3 half = 0.5 * box.extent();
+    for (const Plane& plane : shaft.planes) {
+        const double at_center = glm::dot(plane.normal, center) + plane.offset;
+        const double reach = std::abs(plane.normal.x) * half.x + std::abs(plane.normal.y) * half.y +
+                             std::abs(plane.normal.z) * half.z;
+        if (at_center - reach > tol) return BoxSide::Outside;
+        inside = inside && at_center + reach <= 0.0;
+    }
+    return inside ? BoxSide::Inside : BoxSide::Crossing;
+}
+
 Side classifyObb(const Shaft& shaft, const Obb& box) {
     ObbPlaneCache cache;
     return classifyObb(shaft, box, cache);

@@ -63,6 +63,12 @@ enum class Side { Outside, Crossing };
 // crosses the shaft, even with rounding).
 Side classifyAabb(const Shaft& shaft, const Aabb& box);
 
+// The same test, and also whether the box lies wholly inside the shaft (every plane's
+// maximum over the box at most 0: then every box inside it is Crossing for classifyAabb).
+// For tree nodes of parts (part_tree.h): Outside drops every part below, Inside keeps them.
+enum class BoxSide { Outside, Crossing, Inside };
+BoxSide classifyAabbInside(const Shaft& shaft, const Aabb& box);
+
 // The paper's OBB form: the box as a corner origin plus three edge vectors E_i, and the
 // minimum of each plane as P(origin) + sum_i min(0, N.E_i).
 Side classifyObb(const Shaft& shaft, const Obb& box);
