@@ -54,11 +54,13 @@ PartTree buildPartTree(const std::vector<ConvexPart>& parts) {
             for (uint32_t k = node.first; k < node.first + node.count; ++k) {
                 node.box.add(parts[tree.order[k]].aabb);
                 node.any_closed = node.any_closed || parts[tree.order[k]].closed;
+                node.any_flat = node.any_flat || !parts[tree.order[k]].closed;
             }
         } else {
             for (uint32_t c = 0; c < 2; ++c) {
                 node.box.add(tree.nodes[node.first_child + c].box);
                 node.any_closed = node.any_closed || tree.nodes[node.first_child + c].any_closed;
+                node.any_flat = node.any_flat || tree.nodes[node.first_child + c].any_flat;
             }
         }
     }

@@ -20,6 +20,7 @@ struct PartNode {
     uint32_t first = 0;                 // its parts: PartTree::order[first .. first + count)
     uint32_t count = 0;
     bool any_closed = false;            // some part below is a closed solid
+    bool any_flat = false;              // some part below is flat
     bool isLeaf() const { return first_child == kNoPartNode; }
 };
 

@@ -178,49 +178,6 @@ double receiverCosine(const Element& j, const DVec3& c_s, const DVec3& c_r) {
     return cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2);
 }
 
-// Removes from a candidate list the flat parts lying in `plane` (a flat cluster's own
-// parts: a segment leaving the plane cannot be blocked by them). A tree node wholly off the
-// plane stays one entry; one that meets it is opened, down to its parts where needed.
-void dropFlatPartsInPlane(const PartSet& parts, const Plane& plane, double tolerance,
-                          std::vector<uint32_t>& candidates) {
-    auto in_plane = [&](uint32_t index) {
-        const ConvexPart& part = parts.parts[index];
-        if (part.closed) return false;
-        for (const DVec3& p : part.vertices)
-            if (std::abs(plane.eval(p)) > tolerance) return false;
-        return true;
-    };
-    std::vector<uint32_t> kept;
-    kept.reserve(candidates.size());
-    std::vector<uint32_t> todo;
-    for (uint32_t entry : candidates) {
-        if (!(entry & kPartNode)) {
-            if (!in_plane(entry)) kept.push_back(entry);
-            continue;
-        }
-        todo.assign(1, entry & ~kPartNode);
-        while (!todo.empty()) {
-            const uint32_t index = todo.back();
-            todo.pop_back();
-            const PartNode& node = parts.tree.nodes[index];
-            const DVec3 centre = node.box.center(), half = 0.5 * node.box.extent();
-            const double reach = std::abs(plane.normal.x) * half.x + std::abs(plane.normal.y) * half.y +
-                                 std::abs(plane.normal.z) * half.z;
-            const double at = plane.eval(centre);
-            if (at - reach > tolerance || at + reach < -tolerance) {
-                kept.push_back(index | kPartNode);  // wholly off the plane
-            } else if (node.isLeaf()) {
-                for (uint32_t k = node.first; k < node.first + node.count; ++k)
-                    if (!in_plane(parts.tree.order[k])) kept.push_back(parts.tree.order[k]);
-            } else {
-                todo.push_back(node.first_child + 1);
-                todo.push_back(node.first_child);
-            }
-        }
-    }
-    candidates = std::move(kept);
-}
-
 OcclusionTest occlusionTestFor(LinkVisibility mode) {
     switch (mode) {
         case LinkVisibility::Obb: return OcclusionTest::Obb;
@@ -236,6 +193,7 @@ struct ClusterEvaluation {
     bool occluded = false;
     bool shaft = false;
     bool new_list = false;              // candidates hold a new list, else `list` is inherited
+    bool first_candidate_only = false;  // candidates hold only the first (a kept link's shaft)
     uint32_t list = kNoList;
     std::vector<uint32_t> candidates;
     std::vector<double> kernel;         // pairwise links
@@ -561,8 +519,22 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         }
         const double error = bound(r_node, s_node);
         const bool split = error > node_threshold_[keyOf(s, r_node)];
+        if (!split && !(error > 0.0)) {
+            // A black receiver reflects nothing: it needs no light. A dark source (no light
+            // yet: the first round knows emission only) is deferred, carrying nothing, until
+            // a solve lights it: a room no light reaches then costs no rays (and no shaft).
+            ev.decision = Decision::Keep;
+            ev.visibility = node_power_[keyOf(s, s_node)] > 0.0 ? 0.0f : kDeferred;
+            return ev;
+        }
         bool visible = link.candidates == kNoList;
-        if (!rays_mode && !visible) {
+        // A link that splits, with a list too long for the occlusion test, would only cull
+        // its list for its children: they cull their parent's list as well through the part
+        // tree (part_tree.h), at about the same cost, so no shaft is built for it.
+        const bool cull_only = !visible && state_.parts.tree.empty() == false &&
+                               candidatePartCount(state_.parts, state_.candidate_pool[link.candidates]) >
+                                   kCullOnlyListSize;
+        if (!rays_mode && !visible && !(split && cull_only)) {
             // Shaft between the ends: a cluster by its box corners, a root by its polygon.
             const std::array<DVec3, 8> rc = corners(rb), sc = corners(sb);
             const std::span<const DVec3> rp = isCluster(r_node)
@@ -588,14 +560,20 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             query.test = list_size > kCullOnlyListSize ? OcclusionTest::None : test;
             query.polygon_shaft = false;
             query.excluded = excluded;
+            // A flat cluster's own plane holds nothing that can block it (ShaftQuery).
+            std::array<Plane, 2> planes;
+            size_t plane_count = 0;
+            for (const uint32_t node : {r_node, s_node})
+                if (isCluster(node) && cluster_flat_[clusterOf(node)]) planes[plane_count++] = cluster_plane_[clusterOf(node)];
+            query.ignored_planes = std::span<const Plane>(planes.data(), plane_count);
+            query.plane_tolerance = kCoplanarTolerance * s.scene_extent;
+            // A kept link stores its parent's list, not its own (memory): it needs only
+            // whether anything is left in its shaft.
+            query.first_candidate_only = !split;
+            ev.first_candidate_only = !split;
             ShaftResult result;
             classifyLink(state_.parts, state_.candidate_pool[link.candidates], query, result);
             ev.shaft = true;
-            for (const uint32_t node : {r_node, s_node}) {
-                if (!isCluster(node) || !cluster_flat_[clusterOf(node)] || result.candidates.empty()) continue;
-                dropFlatPartsInPlane(state_.parts, cluster_plane_[clusterOf(node)],
-                                     kCoplanarTolerance * s.scene_extent, result.candidates);
-            }
             if (result.occluded) {
                 ev.occluded = true;
                 return ev;  // Drop: every segment between the ends is blocked
@@ -613,13 +591,6 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             return ev;
         }
         ev.decision = Decision::Keep;
-        if (!(error > 0.0)) {
-            // A black receiver reflects nothing: it needs no light. A dark source (no light
-            // yet: the first round knows emission only) is deferred, carrying nothing, until
-            // a solve lights it: a room no light reaches then costs no rays.
-            ev.visibility = node_power_[keyOf(s, s_node)] > 0.0 ? 0.0f : kDeferred;
-            return ev;
-        }
         const Range rm = membersOf(s, r_node), sm = membersOf(s, s_node);
         auto src_point = [&](uint32_t i, int q) {
             return root_points_[size_t(s.cluster_members[sm.first + i]) * kPointsPerMember + q % kPointsPerMember];
@@ -769,7 +740,9 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 // Split: the children classify against this link's list, or its parent's when this
                 // one culled little (lists of thousands of parts per link were most of the memory).
                 uint32_t list = ev.list;
-                if (ev.new_list && 4 * candidatePartCount(state_.parts, ev.candidates) >
+                if (ev.new_list && ev.first_candidate_only) {
+                    list = link.candidates;  // kept, then split by its rays: its list is incomplete
+                } else if (ev.new_list && 4 * candidatePartCount(state_.parts, ev.candidates) >
                                        3 * candidatePartCount(state_.parts, state_.candidate_pool[link.candidates])) {
                     list = link.candidates;
                 } else if (ev.new_list) {

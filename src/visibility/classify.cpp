@@ -1,6 +1,7 @@
 // Classification of a link's candidate parts against its shaft.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <exception>
 
 #include "visibility/occlusion.h"
@@ -16,6 +17,33 @@ Aabb boxOf(std::span<const DVec3> points) {
 
 bool isExcluded(std::span<const uint32_t> excluded, uint32_t index) {
     return std::find(excluded.begin(), excluded.end(), index) != excluded.end();
+}
+
+bool inIgnoredPlane(const ConvexPart& part, const ShaftQuery& query) {
+    if (part.closed) return false;
+    for (const Plane& plane : query.ignored_planes) {
+        bool in_plane = true;
+        for (const DVec3& p : part.vertices)
+            if (!(std::abs(plane.eval(p)) <= query.plane_tolerance)) {
+                in_plane = false;
+                break;
+            }
+        if (in_plane) return true;
+    }
+    return false;
+}
+
+// A node whose box meets an ignored plane may hold parts in it: it is opened, not kept whole.
+bool meetsIgnoredPlane(const PartNode& node, const ShaftQuery& query) {
+    if (!node.any_flat) return false;
+    const DVec3 centre = node.box.center(), half = 0.5 * node.box.extent();
+    for (const Plane& plane : query.ignored_planes) {
+        const double at = plane.eval(centre);
+        const double reach = std::abs(plane.normal.x) * half.x + std::abs(plane.normal.y) * half.y +
+                             std::abs(plane.normal.z) * half.z;
+        if (!(at - reach > query.plane_tolerance || at + reach < -query.plane_tolerance)) return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -64,6 +92,7 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
         }
         result.candidates.reserve(std::min<size_t>(parent_candidates.size(), 1024));
         // One part: AABB, then OBB culling and the occlusion test. True to stop (occluded).
+        const bool first_only = query.first_candidate_only && query.test == OcclusionTest::None;
         auto visit_part = [&](uint32_t index, const Aabb& box) {
             if (index >= parts.parts.size() || isExcluded(query.excluded, index)) return false;
             ++result.tested;
@@ -72,6 +101,7 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
                 return false;
             }
             const ConvexPart& part = parts.parts[index];
+            if (!query.ignored_planes.empty() && inIgnoredPlane(part, query)) return false;
             if (query.test != OcclusionTest::None) {
                 ObbPlaneCache cache;
                 if (classifyObb(shaft, part.obb, cache) == Side::Outside) {
@@ -94,7 +124,7 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
                 }
             }
             result.candidates.push_back(index);
-            return false;
+            return first_only;
         };
         // A tree node (part_tree.h): outside drops every part below it with one test; wholly
         // inside it stays one entry when only boxes are tested (no part below is excluded);
@@ -117,8 +147,10 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
                 if (side == BoxSide::Outside) continue;
                 if (side == BoxSide::Inside && query.test == OcclusionTest::None &&
                     std::none_of(query.excluded.begin(), query.excluded.end(),
-                                 [&](uint32_t part) { return tree.holds(index, part); })) {
+                                 [&](uint32_t part) { return tree.holds(index, part); }) &&
+                    !meetsIgnoredPlane(node, query)) {
                     result.candidates.push_back(index | kPartNode);
+                    if (first_only) return;
                     continue;
                 }
                 // A leaf, or deeper than the stack (never for a balanced tree): part by part.

@@ -49,6 +49,14 @@ struct ShaftQuery {
     std::span<const uint32_t> excluded;
     // Stop at the first occluder (the link is dead; `candidates` is then incomplete).
     bool stop_at_occluder = true;
+    // Flat parts lying in one of these planes (within plane_tolerance) are not candidates:
+    // an end that lies in such a plane (a flat cluster of a wall) sends every segment off
+    // the plane at once, so nothing in the plane can block it.
+    std::span<const Plane> ignored_planes;
+    double plane_tolerance = 0.0;
+    // Only whether any candidate is left: stop at the first (`candidates` then holds it).
+    // Needs OcclusionTest::None (an occluder could come later in the list).
+    bool first_candidate_only = false;
 };
 
 struct ShaftResult {
