@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
                         threading.threads, seconds[seconds.size() / 2], stats.elements, stats.leaves, stats.links,
                         stats.shafts, stats.occluded_links, stats.rays, stats.iterations, peakRssMb());
             for (double s : seconds) std::printf(" %.3f", s);
-            std::printf("; cluster links %zu, element links %zu, clusters %zu)\n", stats.cluster_links,
-                        stats.element_links, stats.clusters);
+            std::printf("; cluster links %zu, element links %zu, clusters %zu, cluster rays %zu)\n",
+                        stats.cluster_links, stats.element_links, stats.clusters, stats.cluster_rays);
             std::fflush(stdout);
         }
     }

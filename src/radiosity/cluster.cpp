@@ -715,6 +715,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 ClusterEvaluation& ev = evals[i - batch];
                 const PendingClusterLink& link = pending[i];
                 s.stats.rays += ev.rays;
+                s.stats.cluster_rays += ev.rays;
                 s.stats.shafts += ev.shaft ? 1 : 0;
                 if (ev.decision == Decision::Drop) {
                     ++(ev.occluded ? s.stats.occluded_links : s.stats.dropped_links);

@@ -88,6 +88,7 @@ struct SolveStats {
     size_t shafts = 0;
     size_t occluded_links = 0;
     size_t rays = 0;
+    size_t cluster_rays = 0;          // of `rays`, those cast for cluster links
     int iterations = 0;               // operator applications over all rounds
     bool converged = false;           // the last solve reached iteration_tolerance
     size_t leaves = 0;
