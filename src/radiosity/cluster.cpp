@@ -202,8 +202,6 @@ struct ClusterEvaluation {
     size_t rays = 0;
 };
 
-// Pending cluster links evaluated at once (bounds the memory their candidate lists hold).
-constexpr size_t kEvaluationBatch = 8192;
 
 // ClusterLink::visibility of a deferred link (see evaluate).
 constexpr float kDeferred = -1.0f;
@@ -769,9 +767,11 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                     for (uint32_t c : a_children) push(c, link.source, list);
                 }
             }
+            // The first half of the links phase (refine.cpp's element links the second).
+            progress.update(0.5 * refinementFraction(level + double(batch_end) / pending.size()));
         }
         pending = std::move(next);
-        progress.update(std::min(0.5, 0.05 * ++level));
+        ++level;
     }
     return out;
 }

@@ -313,66 +313,77 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
     while (!pending.empty()) {
         if (state.runner.cancelled()) return;  // the solver stops after this phase
         checkMemoryBudget(state.memory_budget_mb, "linking");
-        std::vector<Evaluation> evals(pending.size());
-        state.runner.forEach(pending.size(), 8, [&](size_t i) { evals[i] = evaluate(state, pending[i]); });
         s.stats.candidate_links += pending.size();
         std::vector<PendingLink> next;
-        for (size_t i = 0; i < pending.size(); ++i) {
-            Evaluation& ev = evals[i];
-            const PendingLink& link = pending[i];
-            s.stats.rays += ev.rays;
-            s.stats.shafts += ev.shaft ? 1 : 0;
-            s.stats.classify_fallbacks += ev.classify_fell_back ? 1 : 0;
-            if (ev.state == LinkState::Occluded) {
-                ++s.stats.occluded_links;
-                continue;
-            }
-            if (ev.state == LinkState::None) {
-                ++s.stats.dropped_links;
-                continue;
-            }
-            const bool partial = ev.state == LinkState::Partial;
-            const double spread = ev.ff.f_max - (partial ? 0.0 : ev.ff.f_min);
-            const Element& r = s.elements[link.receiver];
-            const Element& e = s.elements[link.source];
-            uint32_t list = kNoList;
-            if (partial) {
+        // In batches, so that progress moves within a level and the evaluations' candidate
+        // lists are held for one batch only. Decisions stay in link order: evaluation reads
+        // nothing a decision of an earlier batch changes (new children, new lists).
+        std::vector<Evaluation> evals;
+        for (size_t batch = 0; batch < pending.size(); batch += kEvaluationBatch) {
+            const size_t batch_end = std::min(pending.size(), batch + kEvaluationBatch);
+            evals.clear();
+            evals.resize(batch_end - batch);
+            state.runner.forEach(evals.size(), 8, [&](size_t i) { evals[i] = evaluate(state, pending[batch + i]); });
+            for (size_t i = batch; i < batch_end; ++i) {
+                Evaluation& ev = evals[i - batch];
+                const PendingLink& link = pending[i];
+                s.stats.rays += ev.rays;
+                s.stats.shafts += ev.shaft ? 1 : 0;
+                s.stats.classify_fallbacks += ev.classify_fell_back ? 1 : 0;
+                if (ev.state == LinkState::Occluded) {
+                    ++s.stats.occluded_links;
+                    continue;
+                }
+                if (ev.state == LinkState::None) {
+                    ++s.stats.dropped_links;
+                    continue;
+                }
+                const bool partial = ev.state == LinkState::Partial;
+                const double spread = ev.ff.f_max - (partial ? 0.0 : ev.ff.f_min);
+                const Element& r = s.elements[link.receiver];
+                const Element& e = s.elements[link.source];
+                uint32_t list = kNoList;
+                if (partial) {
+                    if (rays_mode) {
+                        list = 0;
+                    } else {
+                        list = static_cast<uint32_t>(state.candidate_pool.size());
+                        state.candidate_pool.push_back(std::move(ev.candidates));
+                    }
+                }
+                if (needsRefinement(state, link.receiver, link.source, spread)) {
+                    const bool split_r = splittable(state, r), split_e = splittable(state, e);
+                    if (split_e && (e.area > r.area || !split_r)) {
+                        const uint32_t count = ensureChildren(s, link.source);
+                        const uint32_t first = s.elements[link.source].first_child;
+                        for (uint32_t c = 0; c < count; ++c) next.push_back({link.receiver, first + c, list});
+                        ++s.stats.split_links;
+                        continue;
+                    }
+                    if (split_r) {
+                        const uint32_t count = ensureChildren(s, link.receiver);
+                        const uint32_t first = s.elements[link.receiver].first_child;
+                        for (uint32_t c = 0; c < count; ++c) next.push_back({first + c, link.source, list});
+                        ++s.stats.split_links;
+                        continue;
+                    }
+                }
+                Link final_link{link.receiver, link.source, ev.ff.form_factor, 1.0f};
                 if (rays_mode) {
-                    list = 0;
-                } else {
-                    list = static_cast<uint32_t>(state.candidate_pool.size());
-                    state.candidate_pool.push_back(std::move(ev.candidates));
+                    final_link.visibility = static_cast<float>(ev.visibility);
+                    final_link.form_factor *= ev.visibility;
+                } else if (partial) {
+                    needs_rays.push_back(s.links.size());
                 }
+                s.links.push_back(final_link);
+                state.records.push_back({spread, list});
             }
-            if (needsRefinement(state, link.receiver, link.source, spread)) {
-                const bool split_r = splittable(state, r), split_e = splittable(state, e);
-                if (split_e && (e.area > r.area || !split_r)) {
-                    const uint32_t count = ensureChildren(s, link.source);
-                    const uint32_t first = s.elements[link.source].first_child;
-                    for (uint32_t c = 0; c < count; ++c) next.push_back({link.receiver, first + c, list});
-                    ++s.stats.split_links;
-                    continue;
-                }
-                if (split_r) {
-                    const uint32_t count = ensureChildren(s, link.receiver);
-                    const uint32_t first = s.elements[link.receiver].first_child;
-                    for (uint32_t c = 0; c < count; ++c) next.push_back({first + c, link.source, list});
-                    ++s.stats.split_links;
-                    continue;
-                }
-            }
-            Link final_link{link.receiver, link.source, ev.ff.form_factor, 1.0f};
-            if (rays_mode) {
-                final_link.visibility = static_cast<float>(ev.visibility);
-                final_link.form_factor *= ev.visibility;
-            } else if (partial) {
-                needs_rays.push_back(s.links.size());
-            }
-            s.links.push_back(final_link);
-            state.records.push_back({spread, list});
+            // After the cluster links (cluster.cpp: the first half), or the whole phase.
+            const double base = s.clusters.empty() ? 0.0 : 0.5;
+            progress.update(base + (0.98 - base) * refinementFraction(level + double(batch_end) / pending.size()));
         }
         pending = std::move(next);
-        progress.update(std::min(0.9, 0.1 * ++level));
+        ++level;
     }
     // A partial link that stopped refining gets its real visibility from rays.
     std::vector<double> visibility(needs_rays.size(), 1.0);

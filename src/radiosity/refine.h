@@ -3,6 +3,7 @@
 // Dupuy-Paulin-Caubet. Candidate links are evaluated in parallel (pure: form factor bounds,
 // shaft, occlusion); decisions and element splits then run sequentially in link order, so
 // element numbering and link order never depend on the thread count.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -71,6 +72,13 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
 // Removes the final links whose oracle, re-run with the current radiosity, asks for a split,
 // and returns them as pending links.
 std::vector<PendingLink> reopenLinks(RefineState& state);
+
+// Pending links evaluated at once (bounds the memory their candidate lists hold).
+inline constexpr size_t kEvaluationBatch = 8192;
+
+// A refinement's progress fraction after `levels` levels (fractional within a level): the
+// number of levels is not known in advance, so each level covers 30 % of what is left.
+inline double refinementFraction(double levels) { return 1.0 - std::pow(0.7, levels); }
 
 // Helper: the largest channel.
 inline double maxChannel(const DVec3& v) { return std::max(v.x, std::max(v.y, v.z)); }

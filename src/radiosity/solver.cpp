@@ -73,12 +73,14 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
             state.updateThresholds();
             state.local_active = local_active;
             bool changed = false;
+            progress.beginPhase("links" + suffix + " (deferred)");
             std::vector<PendingLink> deferred = clusters->reopen(progress, changed, true);
             if (changed) {
                 refineLinks(state, std::move(deferred), progress);
                 computeDirectLight(state);
                 groupLinksByReceiver(s, &state.records);
                 groupClusterLinksByReceiver(s);
+                progress.beginPhase("solve" + suffix + " (deferred)");
                 result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
                 s.stats.iterations += result.iterations;
             }
