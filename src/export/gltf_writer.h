@@ -25,15 +25,34 @@
 //   wants UV sets numbered from 0 without gaps.
 //   primitive extras: {"radbake_lightmap": "lightmaps/x_0.exr", "radbake_lightmap_index": 0}
 //   mesh extras:      {"radbake_lightmaps": [the mesh's files, by atlas index]}
-//   asset extras:     "radbake_lightmaps": every atlas file.
-// glTF has no EXR images, so the files are named in extras rather than as textures. Meshes
-// without charts are written as without lightmaps; with no lightmaps the output is unchanged.
+//   asset extras:     "radbake_lightmaps": every atlas file (and "radbake_lightmap_pngs").
+// Each primitive on atlas k uses a material of its own for (source material, k), with extras
+// naming the atlas: an importer that merges the primitives of one material (Blender) would
+// otherwise lose which lightmap each uses. It keeps the source name, or, for a material
+// spread over several atlases, is named "<material> (lightmap k)".
+// With GltfOptions::lightmap_textures, that material also carries the atlas's PNG
+// (lightmap_png.h, embedded, clamped and not mipmapped) through the lightmap UVs:
+//   "extensions": {"MOZ_lightmap": {"index": T, "texCoord": 1, "intensity": pi * scale}}
+//   "extras": {..., "radbake_lightmap_png": "lightmaps/x_0.png", "radbake_lightmap_scale": scale}
+// MOZ_lightmap (Mozilla Hubs, three.js's lightMap) rather than MSFT_lightmap (Babylon.js):
+// its `intensity` carries the PNG's HDR scale (MSFT_lightmap has only the texture), and
+// three.js adds a light map to the irradiance and shades it with the albedo, which is what
+// the texels mean (Babylon.js's loader, as we know it, applies MSFT_lightmap as a shadow map
+// that multiplies the dynamic lighting: not checked here). Listed in extensionsUsed, not extensionsRequired: a loader without it
+// still draws the meshes. Those primitives have no COLOR_0 (glTF multiplies the base colour
+// by it, so an engine would apply the baked light twice); _RADBAKE_LIGHT keeps the vertex light.
+// Meshes without charts are written as without lightmaps; with no lightmaps the output is
+// unchanged.
+//
+// GltfOptions::export_lights adds the scene's lights as KHR_lights_punctual (off by default:
+// they are baked, an engine would light the scene twice), each with extras.radbake_baked.
 #include <filesystem>
 #include <string>
 
 #include "bake/vertex_bake.h"
 #include "core/diagnostics.h"
 #include "export/lightmap_files.h"
+#include "export/lightmap_png.h"
 #include "scene/scene.h"
 
 namespace radbake {
@@ -41,6 +60,12 @@ namespace radbake {
 struct GltfOptions {
     std::string generator = "radbake";  // asset.generator, e.g. "radbake 0.1.0"
     const LightmapFiles* lightmaps = nullptr;  // when set, meshes with charts carry TEXCOORD_1
+    // With lightmaps: one PNG per atlas (lightmap_png.h), embedded and referenced from the
+    // materials by MOZ_lightmap. Null: the atlases are named in extras only.
+    const std::vector<LightmapPng>* lightmap_textures = nullptr;
+    // Also write the scene's lights (KHR_lights_punctual), marked as baked. Off by default:
+    // their light is in the bake already, so an engine would light the scene twice.
+    bool export_lights = false;
 };
 
 // The whole .glb file as bytes; empty after reporting an error (bake does not match the scene).

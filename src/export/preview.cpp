@@ -105,6 +105,19 @@ std::string encodeRgba8Png(int width, int height, const std::vector<uint8_t>& rg
     }
 }
 
+std::string encodeRgb8Png(int width, int height, const std::vector<uint8_t>& rgb) {
+    if (width <= 0 || height <= 0 || width > INT_MAX / 3 ||
+        rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
+        return {};
+    try {
+        std::string png;
+        if (!stbi_write_png_to_func(appendBytes, &png, width, height, 3, rgb.data(), width * 3)) return {};
+        return png;
+    } catch (...) {  // allocation failure: no PNG
+        return {};
+    }
+}
+
 std::string encodePreviewPng(const RgbImage& linear, double exposure) {
     std::string why;
     return encodePng(linear, exposure, why);

@@ -29,6 +29,9 @@ std::string encodePreviewPng(const RgbImage& linear, double exposure);
 // texture that is neither PNG nor JPEG. Empty when the image is empty, inconsistent or too large.
 std::string encodeRgba8Png(int width, int height, const std::vector<uint8_t>& rgba);
 
+// The same for 8-bit RGB pixels (the lightmap PNGs, lightmap_png.h).
+std::string encodeRgb8Png(int width, int height, const std::vector<uint8_t>& rgb);
+
 // encodePreviewPng written to `path`. An image that cannot be encoded (empty, inconsistent,
 // too large for the encoder, out of memory) is an error at `path` and nothing is written: a
 // 0-byte PNG would be listed in the manifest as if it were a preview. False after reporting.

@@ -145,7 +145,10 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         const LightmapBudget budget{.texels_per_unit = options.lightmaps.texels_per_unit,
                                     .metres_per_unit = metres_per_unit,
                                     .max_texels = options.lightmaps.max_texels};
-        charts = chartLightmapsWithinBudget(scene, lightmapOptions(options.lightmaps), budget, diagnostics);
+        LightmapOptions lightmap_options = lightmapOptions(options.lightmaps);
+        if (!options.lightmaps.scales.empty())
+            lightmap_options.mesh_texel_scale = meshTexelScales(scene, options.lightmaps.scales, diagnostics);
+        charts = chartLightmapsWithinBudget(scene, std::move(lightmap_options), budget, diagnostics);
         if (!charts) return (void)stopped();
         options.lightmaps.texels_per_unit = charts->options.texels_per_metre * metres_per_unit;
     }
