@@ -573,8 +573,8 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
             for (const LightmapPng& png : *lightmap_pngs) pngs.push_back(png.file);
             asset_extras["radbake_lightmap_pngs"] = std::move(pngs);
             asset_extras["radbake_lightmap_encoding"] =
-                "each atlas also as an 8-bit linear RGB PNG, embedded and referenced from its materials by "
-                "MOZ_lightmap through TEXCOORD_1: value = byte / 255 * the material's extras.radbake_lightmap_scale; "
+                "each atlas also as a 16-bit linear RGB PNG, embedded and referenced from its materials by "
+                "MOZ_lightmap through TEXCOORD_1: value = sample / 65535 * the material's extras.radbake_lightmap_scale; "
                 "MOZ_lightmap.intensity = pi * scale (three.js reads a light map as irradiance H); primitives with a "
                 "lightmap texture have no COLOR_0 (an engine would apply both)";
         }

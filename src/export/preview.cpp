@@ -105,17 +105,20 @@ std::string encodeRgba8Png(int width, int height, const std::vector<uint8_t>& rg
     }
 }
 
-std::string encodeRgb8Png(int width, int height, const std::vector<uint8_t>& rgb) {
-    if (width <= 0 || height <= 0 || width > INT_MAX / 3 ||
-        rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
-        return {};
+std::string zlibCompress(const std::string& bytes) {
+    if (bytes.size() > static_cast<size_t>(INT_MAX)) return {};
+    int length = 0;
+    unsigned char* packed = stbi_zlib_compress(reinterpret_cast<unsigned char*>(const_cast<char*>(bytes.data())),
+                                               static_cast<int>(bytes.size()), &length, 8);
+    if (!packed) return {};
+    std::string out;
     try {
-        std::string png;
-        if (!stbi_write_png_to_func(appendBytes, &png, width, height, 3, rgb.data(), width * 3)) return {};
-        return png;
-    } catch (...) {  // allocation failure: no PNG
-        return {};
+        out.assign(reinterpret_cast<const char*>(packed), static_cast<size_t>(length));
+    } catch (...) {  // allocation failure: nothing
+        out.clear();
     }
+    STBIW_FREE(packed);
+    return out;
 }
 
 std::string encodePreviewPng(const RgbImage& linear, double exposure) {

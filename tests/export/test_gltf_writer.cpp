@@ -509,7 +509,7 @@ std::string imageBytes(const Glb& glb, size_t index) {
 
 }  // namespace
 
-TEST_CASE("the lightmap PNG: linear bytes of value / scale, the scale in a tEXt chunk") {
+TEST_CASE("the lightmap PNG: 16-bit linear samples of value / scale, the scale in a tEXt chunk") {
     RgbImage image;
     image.width = 3;
     image.height = 1;
@@ -517,25 +517,32 @@ TEST_CASE("the lightmap PNG: linear bytes of value / scale, the scale in a tEXt 
     const float scale = lightmapPngScale(image);
     CHECK(scale == 4.0f);  // the largest finite value: nothing clips
     const std::string png = encodeLightmapPng(image, scale);
-    REQUIRE_FALSE(png.empty());
+    REQUIRE(png.size() > 33);
+    CHECK(png.compare(12, 4, "IHDR") == 0);
+    CHECK(static_cast<int>(png[24]) == 16);  // bit depth
+    CHECK(static_cast<int>(png[25]) == 2);   // RGB
     CHECK(png.find(std::string("tEXtradbake:lightmap_scale") + '\0' + "4") != std::string::npos);
+    // round(65535 v / 4); negative and NaN give 0.
+    const std::vector<int> expected = {0, 16384, 65535, 32768, 0, 0, 49151, 8192, 164};
+    for (size_t i = 0; i < expected.size(); ++i)
+        if (image.rgb[i] > 0.0f)
+            CHECK(std::fabs(decodeLightmapSample(static_cast<unsigned short>(expected[i]), scale) - image.rgb[i]) <=
+                  scale / 131070.0f + 1e-6f);
+    // A valid PNG (CRCs, zlib stream, Sub filters): stb_image reads it, keeping each sample's high byte.
     TextureRef ref;
     ref.path = "literal.png";
     ref.embedded = std::make_shared<std::string>(png);
     int width = 0, height = 0;
     std::vector<uint8_t> rgba;
     std::string error;
-    REQUIRE(readImageRgba8(ref, width, height, rgba, error));  // a valid PNG: the CRCs hold
+    REQUIRE(readImageRgba8(ref, width, height, rgba, error));
     REQUIRE(width == 3);
     REQUIRE(height == 1);
-    const std::vector<int> expected = {0, 64, 255, 128, 0, 0, 191, 32, 1};  // round(255 v / 4), negative and NaN 0
     for (int p = 0; p < 3; ++p)
         for (int c = 0; c < 3; ++c) {
             CAPTURE(p);
             CAPTURE(c);
-            CHECK(rgba[4 * p + c] == expected[3 * p + c]);
-            const float value = image.rgb[3 * p + c];
-            if (value > 0.0f) CHECK(std::fabs(decodeLightmapByte(rgba[4 * p + c], scale) - value) <= scale / 510.0f + 1e-6f);
+            CHECK(rgba[4 * p + c] == expected[3 * p + c] >> 8);
         }
     RgbImage dark;
     dark.width = dark.height = 1;
