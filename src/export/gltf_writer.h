@@ -3,23 +3,24 @@
 // hand (JSON text + one binary buffer). One glTF mesh with one triangle primitive and one
 // node per radbake Mesh; POSITION, NORMAL, _RADBAKE_LIGHT (the baked value: linear float VEC3,
 // may exceed 1), COLOR_0 (the same clamped to [0, 1], as glTF requires of colours) and uint32
-// indices; one glTF material per Scene material with baseColorFactor =
-// reflectance and emissiveFactor = emission (emission above 1 is normalised and carried by
-// KHR_materials_emissive_strength).
+// indices; one glTF material per Scene material a primitive uses (in order of first use),
+// with baseColorFactor = reflectance and emissiveFactor = emission (emission above 1 is
+// normalised and carried by KHR_materials_emissive_strength).
 //
 // Source UVs (Mesh::uv0) are TEXCOORD_0, in glTF's convention (v down: (u, 1 - v) of the
 // source's v-up UVs). A material whose meshes all have them carries its textures: base colour
 // (baseColorFactor 1 for a VRML97 RGB texture, which replaces the colour), emissive and
 // normal map, each an image embedded in the BIN chunk (PNG and JPEG as the file's bytes, or
 // the bytes the source model embedded; other formats re-encoded to PNG), one texture per image
-// and one repeating sampler; normal-mapped primitives carry TANGENT.
+// and a repeating sampler; normal-mapped primitives carry TANGENT.
 //
 // With lightmaps (GltfOptions::lightmaps), a mesh that has charts is written from its
 // LightmapMesh instead (vertices split at chart seams), as one primitive per atlas it uses,
 // since an engine binds one lightmap per primitive:
 //   POSITION, NORMAL (the source normals carried over with interpolateSource when the mesh
 //   has them, else the face normal of the source triangle), _RADBAKE_LIGHT and COLOR_0 (the
-//   vertex bake carried over with interpolateSource), TEXCOORD_1 = the lightmap UVs (u right, v down from the
+//   vertex bake carried over with interpolateSource; no COLOR_0 with a lightmap texture,
+//   below), TEXCOORD_1 = the lightmap UVs (u right, v down from the
 //   image's top row, in [0, 1] of the atlas) and TEXCOORD_0 = the source UVs carried over with
 //   interpolateSource, or, for a mesh without source UVs, the lightmap accessor again: glTF
 //   wants UV sets numbered from 0 without gaps.

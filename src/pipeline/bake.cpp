@@ -139,6 +139,9 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     }
     if (!scene.input_files.empty()) out.inputs_sha256 = sha256Hex(hashes);
 
+    if (!options.lightmaps.enabled && !options.lightmaps.scales.empty())
+        diagnostics.warning(options.lightmaps.scales.front().location,
+                            "lightmap scales have no effect: the bake has no lightmaps");
     // Before the solve: a lightmap budget error should not cost a solve first.
     std::optional<LightmapCharts> charts;
     if (options.lightmaps.enabled) {

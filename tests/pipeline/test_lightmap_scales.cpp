@@ -102,3 +102,16 @@ TEST_CASE("a bake with lightmap scales: texel counts follow the scales, within t
     CHECK(texels[0] / texels[1] == doctest::Approx(4.0).epsilon(0.3));  // integer texel sides round
     CHECK(texels[1] / texels[2] == doctest::Approx(4.0).epsilon(0.3));
 }
+
+TEST_CASE("lightmap scales in a bake without lightmaps are a warning, not silently nothing") {
+    BakeOptions options = BakeOptions::forQuality(Quality::Draft);
+    options.lightmaps.enabled = false;
+    Diagnostics diagnostics;
+    options.lightmaps.scales = *parseLightmapScales("a 2\n", "scales.txt", diagnostics);
+    Progress progress(false);
+    const Bake result = bake(floorsScene(), options, progress, diagnostics);
+    REQUIRE(result.ok());
+    REQUIRE(diagnostics.warningCount() == 1);
+    CHECK(diagnostics.all()[0].message == "lightmap scales have no effect: the bake has no lightmaps");
+    CHECK(diagnostics.all()[0].location.file == "scales.txt");
+}
