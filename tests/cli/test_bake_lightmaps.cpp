@@ -273,6 +273,14 @@ TEST_CASE("--lightmap-scales: the named mesh gets scale^2 times the texels; the 
     CHECK(even_texels == 64 * 64 + 16 * 16);
     CHECK(scaled_texels == 32 * 32 + 16 * 16);
     CHECK(readBytes(tmp.path / "out.d").find("scales.txt") != std::string::npos);
+    // The atlas records the scales that shaped it; a bake without them records none.
+    radbake::Diagnostics diagnostics;
+    const auto scaled_atlas = radbake::readExr(tmp.path / "scaled" / "lightmaps" / "lamp_0.exr", diagnostics);
+    const auto even_atlas = radbake::readExr(tmp.path / "even" / "lightmaps" / "lamp_0.exr", diagnostics);
+    REQUIRE(scaled_atlas);
+    REQUIRE(even_atlas);
+    CHECK(attribute(*scaled_atlas, "radbake:lightmap_scales") == "floor = 0.5");
+    CHECK(attribute(*even_atlas, "radbake:lightmap_scales").empty());
 
     writeText(tmp.path / "typo.txt", "flor 0.5\n");
     const RunResult typo = runRadbake(bake + " --lightmap-scales " + quote(tmp.path / "typo.txt") + " -o " +
