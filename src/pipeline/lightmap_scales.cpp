@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -56,6 +57,11 @@ std::optional<std::vector<LightmapScaleRule>> parseLightmapScales(const std::str
 }
 
 std::optional<std::vector<LightmapScaleRule>> readLightmapScales(const std::string& path, Diagnostics& diagnostics) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {  // a folder opens, then reads as nothing
+        diagnostics.error({path, 0, 0}, "cannot open lightmap scale file: not a regular file");
+        return std::nullopt;
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         diagnostics.error({path, 0, 0}, "cannot open lightmap scale file");

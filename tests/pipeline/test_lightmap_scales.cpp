@@ -63,6 +63,9 @@ TEST_CASE("lightmap scale file: rules, comments, and located errors") {
         CHECK(d.all()[0].location.line == line);
     }
     CHECK_FALSE(readLightmapScales("/nonexistent/scales.txt", diagnostics));
+    const int errors = diagnostics.errorCount();
+    CHECK_FALSE(readLightmapScales("/tmp", diagnostics));  // a folder is no scale file
+    CHECK(diagnostics.errorCount() == errors + 1);
 }
 
 TEST_CASE("lightmap scales resolve by mesh name first, then material name; unknown names warn") {
