@@ -23,6 +23,7 @@
 #include "pipeline/bake.h"         // Bake, BakeStatus, BakedLightmaps
 #include "pipeline/bake_options.h" // BakeOptions, LightmapSettings
 #include "pipeline/depfile.h"      // writeDepfile
+#include "pipeline/lightmap_scales.h" // LightmapScaleRule, readLightmapScales
 #include "radiosity/solution.h"    // Solution, Element, Link, probeIrradiance
 #include "radiosity/solver.h"      // SolverOptions, SolveStats (solver_options.h)
 #include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera

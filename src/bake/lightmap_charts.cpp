@@ -334,12 +334,27 @@ double polygonArea(const std::vector<DVec2>& polygon) {
     return 0.5 * twice;
 }
 
+namespace {
+
+// The options mesh m's charts are built with: its density times its scale (the scale list
+// left out, so the per-mesh copy is cheap).
+LightmapOptions meshOptions(const LightmapOptions& base, const std::vector<double>& scales, uint32_t m) {
+    LightmapOptions options = base;
+    if (m < scales.size()) options.texels_per_metre *= scales[m];
+    return options;
+}
+
+}  // namespace
+
 std::vector<LightmapChart> buildLightmapCharts(const Scene& scene, const LightmapOptions& options) {
     std::vector<LightmapChart> charts;
     const double extent = lightmapExtent(scene);
     // A chart must fit an atlas with its padding on both sides.
     const int cap = std::max(1, std::min(options.max_chart_texels, options.atlas_size - 2 * options.padding));
-    for (uint32_t m = 0; m < scene.meshes.size(); ++m) meshCharts(scene, m, extent, cap, options, charts, nullptr);
+    LightmapOptions base = options;
+    base.mesh_texel_scale.clear();
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
+        meshCharts(scene, m, extent, cap, meshOptions(base, options.mesh_texel_scale, m), charts, nullptr);
     return charts;
 }
 
@@ -347,7 +362,10 @@ double estimateLightmapTexels(const Scene& scene, const LightmapOptions& options
     std::vector<LightmapChart> none;
     double texels = 0.0;
     const double extent = lightmapExtent(scene);
-    for (uint32_t m = 0; m < scene.meshes.size(); ++m) meshCharts(scene, m, extent, 1, options, none, &texels);
+    LightmapOptions base = options;
+    base.mesh_texel_scale.clear();
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
+        meshCharts(scene, m, extent, 1, meshOptions(base, options.mesh_texel_scale, m), none, &texels);
     return texels;
 }
 

@@ -37,6 +37,9 @@ struct LightmapOptions {
     // neighbours' mean when those agree within it (lightmap_adaptive.h, lightmap_seams.h).
     // 0 evaluates every texel and edge sample: the exhaustive bake.
     double texel_tolerance = 0.02;
+    // Per mesh (by index), a factor on texels_per_metre: per-object lightmap density
+    // (--lightmap-scales). Empty, or shorter than the mesh list: 1.
+    std::vector<double> mesh_texel_scale;
 };
 
 // The part of one source triangle that lies in a chart: the whole triangle (3 points) or,

@@ -28,10 +28,12 @@ struct BakeArgs {
     int threads = 0;
     bool no_pin_threads = false;
     std::string probes;
+    std::string lightmap_scales;
     std::string depfile;
     ImportOptions import;
     bool quiet = false;
     bool preview = false;
+    bool export_lights = false;
     bool no_lightmaps = false;
     bool no_clustering = false;
     LightmapSettings lightmaps;
@@ -89,6 +91,7 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     if (!args.texel_tolerance_option->count()) options.lightmaps.texel_tolerance = texel_tolerance;
     options.import = args.import;
     options.preview = args.preview;
+    options.export_lights = args.export_lights;
     // A program that owns its process pins its workers (unpinned ones were seen sharing one
     // core on the 2-core build machines); the library does not unless asked.
     options.threading = Threading{args.threads, !args.no_pin_threads};
@@ -117,6 +120,11 @@ int runBake(const BakeArgs& args) {
         if (read->empty()) diagnostics.warning({args.probes, 0, 0}, "probe file holds no probes");
         options.probes = std::move(*read);
     }
+    if (!args.lightmap_scales.empty()) {
+        std::optional<std::vector<LightmapScaleRule>> rules = readLightmapScales(args.lightmap_scales, diagnostics);
+        if (!rules) return kExitInputError;
+        options.lightmaps.scales = std::move(*rules);
+    }
     const Bake result = bake(args.scene, options, progress, diagnostics);
     if (!result.ok()) return kExitInputError;
     const std::filesystem::path out_dir = args.out_dir.empty() ? std::filesystem::path("baked") / result.scene->name
@@ -127,6 +135,7 @@ int runBake(const BakeArgs& args) {
         std::vector<std::string> targets, inputs = result.scene->input_files;
         for (const std::string& file : written.files) targets.push_back((out_dir / file).lexically_normal().string());
         if (!args.probes.empty()) inputs.push_back(args.probes);
+        if (!args.lightmap_scales.empty()) inputs.push_back(args.lightmap_scales);
         if (!writeDepfile(args.depfile, targets, inputs, diagnostics)) return kExitInputError;
     }
 
@@ -252,9 +261,15 @@ void addBakeCommand(CLI::App& app, int& result) {
                     "density is lowered with a warning, a given --texel-density is an error")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    cmd->add_option("--lightmap-scales", args->lightmap_scales,
+                    "Per-object lightmap density: a file of 'NAME SCALE' lines, NAME a mesh or material name, "
+                    "SCALE a factor on --texel-density for its meshes (applied within --max-texels)");
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
     cmd->add_flag("--preview", args->preview,
                   "Also write preview/: a tone-mapped PNG of each atlas and a view of the baked scene");
+    cmd->add_flag("--export-lights", args->export_lights,
+                  "Also write the scene's lights into the glb (KHR_lights_punctual, marked as baked in extras); "
+                  "off by default, as their light is baked already and an engine would add it again");
     cmd->add_flag("--strict", args->import.strict, "Unknown VRML nodes and fields are errors");
     cmd->add_flag("-q,--quiet", args->quiet, "Print only warnings, errors and a one-line summary");
     cmd->callback([args, &result] {

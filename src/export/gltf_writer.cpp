@@ -8,6 +8,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "bake/lightmap_charts.h"
 #include "export/json_detail.h"
@@ -145,6 +146,9 @@ struct PrimitiveData {
     const std::vector<UVec3>& triangles;
     const std::vector<Vec2>* source_uv = nullptr;
     bool with_tangents = false;
+    // COLOR_0 is left out where the material's lightmap lights the primitive: glTF multiplies
+    // the base colour by COLOR_0, so an engine would apply the baked light twice.
+    bool with_colors = true;
 };
 
 // `material` < 0: none; `extras` is written when not null.
@@ -156,7 +160,7 @@ GltfJson primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& 
     // vertex colours, and _RADBAKE_LIGHT (an application-specific attribute) the exact one.
     std::vector<Vec3> clamped(data.colors.size());
     for (size_t i = 0; i < clamped.size(); ++i) clamped[i] = glm::clamp(data.colors[i], Vec3(0.0f), Vec3(1.0f));
-    const int color = addVec3Accessor(lists, bin, clamped, false);
+    const int color = data.with_colors ? addVec3Accessor(lists, bin, clamped, false) : -1;
     const int light = addVec3Accessor(lists, bin, data.colors, false);
     const int uv = data.uv ? addVec2Accessor(lists, bin, *data.uv) : -1;
     const int source_uv = data.source_uv ? addVec2Accessor(lists, bin, *data.source_uv) : -1;
@@ -172,7 +176,9 @@ GltfJson primitiveJson(JsonLists& lists, std::string& bin, const PrimitiveData& 
     append(bin, data.triangles);  // UVec3 = three packed uint32
     const int index_view = addView(lists, index_offset, data.triangles.size() * sizeof(UVec3), kElementArrayBuffer);
     const int indices = addAccessor(lists, index_view, kUnsignedInt, data.triangles.size() * 3, "SCALAR");
-    GltfJson attributes = {{"POSITION", position}, {"NORMAL", normal}, {"COLOR_0", color}, {"_RADBAKE_LIGHT", light}};
+    GltfJson attributes = {{"POSITION", position}, {"NORMAL", normal}};
+    if (color >= 0) attributes["COLOR_0"] = color;
+    attributes["_RADBAKE_LIGHT"] = light;
     // The source UVs are set 0 (what the materials' textures use), the lightmap's set 1.
     // Without source UVs both sets share the lightmap accessor: glTF numbers sets from 0.
     if (tangent >= 0) attributes["TANGENT"] = tangent;
@@ -230,13 +236,42 @@ std::vector<int> atlasesUsed(const LightmapMesh& lightmap_mesh) {
     return atlases;
 }
 
-// The material textures in the glb: one image per file (PNG and JPEG embedded as they are,
-// any other format re-encoded to PNG), one texture each, one sampler (repeat, as the bake
-// sampled them).
+// The textures in the glb: one image per material texture file (PNG and JPEG embedded as
+// they are, any other format re-encoded to PNG) and per lightmap atlas, one texture each.
+// Two samplers, made on first use: material textures repeat, linear and mipmapped (as the
+// bake averaged them); lightmaps clamp to the edge and are not mipmapped (a mip level would
+// blend neighbouring charts across their padding).
 struct TextureTable {
     std::map<std::string, int> index;  // path -> texture index; -1 when the file cannot be read
-    GltfJson images = GltfJson::array(), textures = GltfJson::array();
+    std::vector<int> lightmap_index;   // atlas -> texture index; -1 until used
+    GltfJson images = GltfJson::array(), textures = GltfJson::array(), samplers = GltfJson::array();
+    int repeat_sampler = -1, lightmap_sampler = -1;
 };
+
+int samplerIndex(TextureTable& table, bool lightmap) {
+    int& index = lightmap ? table.lightmap_sampler : table.repeat_sampler;
+    if (index >= 0) return index;
+    if (lightmap) {
+        table.samplers.push_back({{"magFilter", 9729}, {"minFilter", 9729}, {"wrapS", 33071}, {"wrapT", 33071}});
+    } else {
+        table.samplers.push_back({{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}});
+    }
+    return index = static_cast<int>(table.samplers.size()) - 1;
+}
+
+// An image of `bytes` in the BIN chunk and its texture; returns the texture index.
+int addImageTexture(TextureTable& table, JsonLists& lists, std::string& bin, const std::string& bytes,
+                    const std::string& mime, bool lightmap, const std::string& name = {}) {
+    const size_t offset = bin.size();
+    bin += bytes;
+    bin.resize((bin.size() + 3) / 4 * 4, '\0');  // the next accessor stays 4-byte aligned
+    lists.buffer_views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes.size()}});
+    GltfJson image = {{"bufferView", lists.buffer_views.size() - 1}, {"mimeType", mime}};
+    if (!name.empty()) image["name"] = name;
+    table.images.push_back(std::move(image));
+    table.textures.push_back({{"sampler", samplerIndex(table, lightmap)}, {"source", table.images.size() - 1}});
+    return static_cast<int>(table.textures.size()) - 1;
+}
 
 std::string fileBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -264,13 +299,7 @@ int textureIndex(TextureTable& table, JsonLists& lists, std::string& bin, const 
         mime = "image/png";
     }
     if (bytes.empty()) return table.index[path] = -1;
-    const size_t offset = bin.size();
-    bin += bytes;
-    bin.resize((bin.size() + 3) / 4 * 4, '\0');  // the next accessor stays 4-byte aligned
-    lists.buffer_views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes.size()}});
-    table.images.push_back({{"bufferView", lists.buffer_views.size() - 1}, {"mimeType", mime}});
-    table.textures.push_back({{"sampler", 0}, {"source", table.images.size() - 1}});
-    return table.index[path] = static_cast<int>(table.textures.size()) - 1;
+    return table.index[path] = addImageTexture(table, lists, bin, bytes, mime, false);
 }
 
 // `textured`: every mesh using the material has source UVs, so its textures (TEXCOORD_0) apply.
@@ -304,6 +333,74 @@ GltfJson materialJson(const Material& material, bool textured, TextureTable& tex
     return json;
 }
 
+// The rotation that turns glTF's light direction (-Z of its node) onto `direction` (unit).
+Quat rotationFromMinusZ(const Vec3& direction) {
+    const DVec3 from(0.0, 0.0, -1.0), to = glm::normalize(DVec3(direction));
+    const double c = glm::dot(from, to);
+    if (!(c > -1.0 + 1e-9)) return Quat(0.0f, 1.0f, 0.0f, 0.0f);  // opposite: half a turn about X
+    const DVec3 axis = glm::cross(from, to);
+    return Quat(glm::normalize(glm::dquat(1.0 + c, axis.x, axis.y, axis.z)));
+}
+
+// KHR_lights_punctual lights, each on a node of its own (added to `lists`), for lights that
+// are on. Units as radbake baked them (punctual_lights.h), not photometric: the glTF
+// intensity of a point or spot light is its radiant intensity in W/sr, of a directional
+// light its irradiance in W/m^2, with the colour normalised to a largest channel of 1.
+// Every light is marked as baked: its light is in the lightmaps and vertex light already.
+GltfJson lightsJson(const Scene& scene, JsonLists& lists, Diagnostics& diagnostics) {
+    GltfJson lights = GltfJson::array();
+    size_t off = 0;
+    const Light* first_off = nullptr;
+    for (size_t k = 0; k < scene.lights.size(); ++k) {
+        const Light& light = scene.lights[k];
+        if (!light.on) {
+            if (!first_off) first_off = &light;
+            ++off;
+            continue;
+        }
+        const Vec3 strength = glm::max(light.color * std::max(light.intensity, 0.0f), Vec3(0.0f));
+        const float peak = isFinite(strength) ? std::max({strength.x, strength.y, strength.z}) : 0.0f;
+        const char* type = light.type == LightType::Point ? "point" : light.type == LightType::Spot ? "spot" : "directional";
+        const std::string name = std::string(light.type == LightType::Point  ? "PointLight "
+                                             : light.type == LightType::Spot ? "SpotLight "
+                                                                             : "DirectionalLight ") +
+                                 std::to_string(k);
+        GltfJson extras = {{"radbake_baked", true},
+                           {"radbake_note", "already in the baked light: enable it only for what the bake does not "
+                                            "hold (dynamic objects, specular)"},
+                           {"radbake_units", light.type == LightType::Directional ? "W/m^2" : "W/sr"}};
+        GltfJson json = {{"name", name},
+                         {"type", type},
+                         {"color", vec3Json(peak > 0.0f ? strength / peak : Vec3(1.0f))},
+                         {"intensity", peak}};
+        if (light.type != LightType::Directional) {
+            if (std::isfinite(light.radius) && light.radius > 0.0f) json["range"] = light.radius;
+            if (light.attenuation != Vec3(1.0f, 0.0f, 0.0f)) extras["radbake_attenuation"] = vec3Json(light.attenuation);
+        }
+        if (light.type == LightType::Spot) {
+            // glTF wants 0 <= inner < outer <= pi/2, and fades smoothly between them (VRML linearly).
+            const float outer = std::clamp(light.cut_off_angle, 1e-4f, static_cast<float>(kPi / 2.0));
+            const float inner = std::clamp(light.beam_width, 0.0f, outer * 0.999f);
+            json["spot"] = {{"innerConeAngle", inner}, {"outerConeAngle", outer}};
+        }
+        json["extras"] = std::move(extras);
+        GltfJson node = {{"name", name}};
+        if (light.type != LightType::Directional)
+            node["translation"] = vec3Json(light.position);
+        if (light.type != LightType::Point) {
+            const Quat q = rotationFromMinusZ(light.direction);
+            node["rotation"] = {q.x, q.y, q.z, q.w};
+        }
+        node["extensions"] = {{"KHR_lights_punctual", {{"light", lights.size()}}}};
+        lists.nodes.push_back(std::move(node));
+        lights.push_back(std::move(json));
+    }
+    if (off > 0)
+        diagnostics.warning(first_off->location, std::to_string(off) + " light" + (off == 1 ? " is" : "s are") +
+                                                     " off: not exported (the bake has none of their light)");
+    return lights;
+}
+
 }  // namespace
 
 bool checkBakeMatchesScene(const Scene& scene, const VertexBake& bake, Diagnostics& diagnostics) {
@@ -327,6 +424,13 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     if (!checkBakeMatchesScene(scene, bake, diagnostics)) return {};
     if (options.lightmaps && !checkLightmapsMatchScene(scene, *options.lightmaps, diagnostics)) return {};
 
+    const std::vector<LightmapPng>* lightmap_pngs = options.lightmaps ? options.lightmap_textures : nullptr;
+    if (lightmap_pngs && lightmap_pngs->size() != options.lightmaps->atlas_files.size()) {
+        diagnostics.error({}, "internal: lightmap textures for " + std::to_string(lightmap_pngs->size()) + " atlases, " +
+                                  std::to_string(options.lightmaps->atlas_files.size()) + " atlas files");
+        return {};
+    }
+
     JsonLists lists;
     std::string bin;
     size_t non_finite = 0;
@@ -337,10 +441,60 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     auto normalMapped = [&](uint32_t material) {
         return material < textured.size() && textured[material] && !scene.materials[material].normal_texture.empty();
     };
+
+    // One glTF material per (scene material, atlas), made on first use: primitives on two
+    // atlases must not share a material, or an importer (Blender) merges them and loses which
+    // lightmap each uses. Atlas -1: a primitive without a lightmap. A material keeps its
+    // source name unless it spans several atlases (then " (lightmap k)" tells them apart).
+    std::vector<std::set<int>> material_atlases(scene.materials.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        if (mesh.material >= scene.materials.size() || mesh.triangles.empty() || mesh.positions.empty()) continue;
+        const LightmapMesh* lightmap_mesh = options.lightmaps ? &options.lightmaps->meshes[m] : nullptr;
+        if (lightmap_mesh && !lightmap_mesh->triangles.empty()) {
+            for (const int atlas : atlasesUsed(*lightmap_mesh)) material_atlases[mesh.material].insert(atlas);
+        } else {
+            material_atlases[mesh.material].insert(-1);
+        }
+    }
+    bool uses_strength = false, uses_lightmap = false;
+    TextureTable textures;
+    textures.lightmap_index.assign(options.lightmaps ? options.lightmaps->atlas_files.size() : 0, -1);
+    GltfJson materials = GltfJson::array();
+    std::map<std::pair<uint32_t, int>, int> material_index;
+    const auto materialFor = [&](uint32_t material, int atlas) -> int {
+        if (material >= scene.materials.size()) return -1;
+        if (const auto it = material_index.find({material, atlas}); it != material_index.end()) return it->second;
+        GltfJson json = materialJson(scene.materials[material], textured[material], textures, lists, bin, uses_strength);
+        if (atlas >= 0) {
+            const size_t k = static_cast<size_t>(atlas);
+            if (material_atlases[material].size() > 1)
+                json["name"] = scene.materials[material].name + " (lightmap " + std::to_string(atlas) + ")";
+            GltfJson extras = {{"radbake_lightmap", options.lightmaps->atlas_files[k]}, {"radbake_lightmap_index", atlas}};
+            if (lightmap_pngs) {
+                const LightmapPng& png = (*lightmap_pngs)[k];
+                int& texture = textures.lightmap_index[k];
+                if (texture < 0)
+                    texture = addImageTexture(textures, lists, bin, png.bytes, "image/png", true,
+                                              "lightmap " + std::to_string(atlas));
+                // three.js (which reads MOZ_lightmap) takes a light map as irradiance and
+                // shades it with albedo / pi: intensity pi * scale turns the texels (H/pi
+                // over scale) into H, so albedo * H/pi is what it shows.
+                json["extensions"]["MOZ_lightmap"] = {
+                    {"index", texture}, {"texCoord", 1}, {"intensity", static_cast<float>(kPi) * png.scale}};
+                extras["radbake_lightmap_png"] = png.file;
+                extras["radbake_lightmap_scale"] = png.scale;
+                uses_lightmap = true;
+            }
+            json["extras"] = std::move(extras);
+        }
+        materials.push_back(std::move(json));
+        return material_index[{material, atlas}] = static_cast<int>(materials.size()) - 1;
+    };
+
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         if (mesh.triangles.empty() || mesh.positions.empty()) continue;  // glTF accessors need count >= 1
-        const int material = mesh.material < scene.materials.size() ? static_cast<int>(mesh.material) : -1;
         GltfJson primitives = GltfJson::array(), mesh_extras;
         const LightmapMesh* lightmap_mesh = options.lightmaps ? &options.lightmaps->meshes[m] : nullptr;
         const bool has_uv = !mesh.uv0.empty() && mesh.uv0.size() == mesh.positions.size();
@@ -357,9 +511,11 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                 const AtlasPart part = atlasPart(*lightmap_mesh, atlas, normals, colors, source_uv);
                 const std::string& file = options.lightmaps->atlas_files[static_cast<size_t>(atlas)];
                 const GltfJson extras = {{"radbake_lightmap", file}, {"radbake_lightmap_index", atlas}};
+                const int material = materialFor(mesh.material, atlas);
                 primitives.push_back(primitiveJson(lists, bin,
                                                    {part.positions, part.normals, part.colors, &part.uv, part.triangles,
-                                                    has_uv ? &part.source_uv : nullptr, normalMapped(mesh.material)},
+                                                    has_uv ? &part.source_uv : nullptr, normalMapped(mesh.material),
+                                                    !(lightmap_pngs && material >= 0)},
                                                    material, extras));
                 files.push_back(file);
             }
@@ -370,7 +526,7 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                 lists, bin,
                 {mesh.positions, vertexNormals(mesh), finiteVertexValues(mesh, &bake.values[m], non_finite), nullptr,
                  mesh.triangles, has_uv ? &source_uv : nullptr, normalMapped(mesh.material)},
-                material));
+                materialFor(mesh.material, -1)));
         }
         const std::string name = mesh.name.empty() ? "mesh" + std::to_string(m) : mesh.name;
         GltfJson mesh_json = {{"name", name}, {"primitives", std::move(primitives)}};
@@ -380,12 +536,6 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     }
     if (non_finite > 0)
         diagnostics.warning({}, std::to_string(non_finite) + " baked vertex values were not finite and were written as 0");
-
-    bool uses_strength = false;
-    TextureTable textures;
-    GltfJson materials = GltfJson::array();
-    for (size_t i = 0; i < scene.materials.size(); ++i)
-        materials.push_back(materialJson(scene.materials[i], textured[i], textures, lists, bin, uses_strength));
 
     // Viewpoints become cameras, so the baked scene opens framed: glTF's camera looks down -Z
     // with +Y up, as VRML's does; yfov is VRML's fieldOfView (the smaller angle: the vertical
@@ -406,6 +556,9 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                                {"rotation", {q.x, q.y, q.z, q.w}}});
     }
 
+    GltfJson lights = GltfJson::array();
+    if (options.export_lights) lights = lightsJson(scene, lists, diagnostics);
+
     GltfJson node_indices = GltfJson::array();
     for (size_t i = 0; i < lists.nodes.size(); ++i) node_indices.push_back(i);
 
@@ -415,9 +568,25 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
         asset_extras["TEXCOORD_1"] =
             "lightmap UVs (TEXCOORD_0 repeats them when the mesh has no UVs of its own); u right, v down from the top row";
         asset_extras["radbake_lightmaps"] = options.lightmaps->atlas_files;
+        if (lightmap_pngs) {
+            GltfJson pngs = GltfJson::array();
+            for (const LightmapPng& png : *lightmap_pngs) pngs.push_back(png.file);
+            asset_extras["radbake_lightmap_pngs"] = std::move(pngs);
+            asset_extras["radbake_lightmap_encoding"] =
+                "each atlas also as a 16-bit linear RGB PNG, embedded and referenced from its materials by "
+                "MOZ_lightmap through TEXCOORD_1: value = sample / 65535 * the material's extras.radbake_lightmap_scale; "
+                "MOZ_lightmap.intensity = pi * scale (three.js reads a light map as irradiance H); primitives with a "
+                "lightmap texture have no COLOR_0 (an engine would apply both)";
+        }
     }
     GltfJson root = {{"asset", {{"version", "2.0"}, {"generator", options.generator}, {"extras", std::move(asset_extras)}}}};
-    if (uses_strength) root["extensionsUsed"] = {"KHR_materials_emissive_strength"};
+    GltfJson extensions_used = GltfJson::array();
+    if (uses_strength) extensions_used.push_back("KHR_materials_emissive_strength");
+    if (uses_lightmap) extensions_used.push_back("MOZ_lightmap");
+    if (!lights.empty()) extensions_used.push_back("KHR_lights_punctual");
+    // Used, not required: a loader without them still shows the meshes (with vertex light).
+    if (!extensions_used.empty()) root["extensionsUsed"] = std::move(extensions_used);
+    if (!lights.empty()) root["extensions"] = {{"KHR_lights_punctual", {{"lights", std::move(lights)}}}};
     root["scene"] = 0;
     root["scenes"] = GltfJson::array({{{"name", scene.name}, {"nodes", std::move(node_indices)}}});
     root["nodes"] = std::move(lists.nodes);
@@ -427,8 +596,7 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     if (!textures.textures.empty()) {
         root["textures"] = std::move(textures.textures);
         root["images"] = std::move(textures.images);
-        // Linear, mipmapped, repeating: how the bake averaged the textures.
-        root["samplers"] = GltfJson::array({{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}}});
+        root["samplers"] = std::move(textures.samplers);
     }
     if (!bin.empty()) {
         root["buffers"] = GltfJson::array({{{"byteLength", bin.size()}}});

@@ -105,6 +105,22 @@ std::string encodeRgba8Png(int width, int height, const std::vector<uint8_t>& rg
     }
 }
 
+std::string zlibCompress(const std::string& bytes) {
+    if (bytes.size() > static_cast<size_t>(INT_MAX)) return {};
+    int length = 0;
+    unsigned char* packed = stbi_zlib_compress(reinterpret_cast<unsigned char*>(const_cast<char*>(bytes.data())),
+                                               static_cast<int>(bytes.size()), &length, 8);
+    if (!packed) return {};
+    std::string out;
+    try {
+        out.assign(reinterpret_cast<const char*>(packed), static_cast<size_t>(length));
+    } catch (...) {  // allocation failure: nothing
+        out.clear();
+    }
+    STBIW_FREE(packed);
+    return out;
+}
+
 std::string encodePreviewPng(const RgbImage& linear, double exposure) {
     std::string why;
     return encodePng(linear, exposure, why);

@@ -29,6 +29,11 @@ std::string encodePreviewPng(const RgbImage& linear, double exposure);
 // texture that is neither PNG nor JPEG. Empty when the image is empty, inconsistent or too large.
 std::string encodeRgba8Png(int width, int height, const std::vector<uint8_t>& rgba);
 
+// A zlib stream (RFC 1950) of `bytes`, as PNG's IDAT wants it (stb_image_write's deflate):
+// the lightmap PNGs (lightmap_png.h) are 16-bit, which stb_image_write does not write. Empty
+// on failure.
+std::string zlibCompress(const std::string& bytes);
+
 // encodePreviewPng written to `path`. An image that cannot be encoded (empty, inconsistent,
 // too large for the encoder, out of memory) is an error at `path` and nothing is written: a
 // 0-byte PNG would be listed in the manifest as if it were a preview. False after reporting.

@@ -139,13 +139,19 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     }
     if (!scene.input_files.empty()) out.inputs_sha256 = sha256Hex(hashes);
 
+    if (!options.lightmaps.enabled && !options.lightmaps.scales.empty())
+        diagnostics.warning(options.lightmaps.scales.front().location,
+                            "lightmap scales have no effect: the bake has no lightmaps");
     // Before the solve: a lightmap budget error should not cost a solve first.
     std::optional<LightmapCharts> charts;
     if (options.lightmaps.enabled) {
         const LightmapBudget budget{.texels_per_unit = options.lightmaps.texels_per_unit,
                                     .metres_per_unit = metres_per_unit,
                                     .max_texels = options.lightmaps.max_texels};
-        charts = chartLightmapsWithinBudget(scene, lightmapOptions(options.lightmaps), budget, diagnostics);
+        LightmapOptions lightmap_options = lightmapOptions(options.lightmaps);
+        if (!options.lightmaps.scales.empty())
+            lightmap_options.mesh_texel_scale = meshTexelScales(scene, options.lightmaps.scales, diagnostics);
+        charts = chartLightmapsWithinBudget(scene, std::move(lightmap_options), budget, diagnostics);
         if (!charts) return (void)stopped();
         options.lightmaps.texels_per_unit = charts->options.texels_per_metre * metres_per_unit;
     }

@@ -11,6 +11,7 @@
 #include "core/parallel.h"
 #include "export/probes.h"
 #include "io/import.h"
+#include "pipeline/lightmap_scales.h"
 #include "radiosity/solver_options.h"
 
 namespace radbake {
@@ -24,6 +25,9 @@ struct LightmapSettings {
                                        // high 0.01, reference 0 (every texel evaluated)
     size_t max_texels = size_t{1} << 22;  // --max-texels: chart texels of the whole bake
     bool exr_float = false;            // --exr-float: 32-bit EXRs instead of half
+    // --lightmap-scales FILE: per mesh or material name, a factor on the texel density
+    // (lightmap_scales.h); empty: every mesh at the bake's density.
+    std::vector<LightmapScaleRule> scales;
 };
 
 struct BakeOptions {
@@ -34,6 +38,9 @@ struct BakeOptions {
     // file's units; nullopt: no probes.csv (an empty list writes one with its header only).
     std::optional<std::vector<Probe>> probes;
     bool preview = false;              // render preview PNGs (the first Viewpoint, each atlas)
+    // --export-lights: the glb also holds the scene's lights (KHR_lights_punctual), marked as
+    // baked. Off by default: their light is baked already, an engine would add it again.
+    bool export_lights = false;
     Threading threading;               // every phase's threads (0: all cores; not pinned)
 
     // Every preset of `quality`: the solver's knobs and the texel tolerance.

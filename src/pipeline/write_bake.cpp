@@ -9,6 +9,7 @@
 
 #include "export/exr_io.h"
 #include "export/gltf_writer.h"
+#include "export/lightmap_png.h"
 #include "export/manifest.h"
 #include "export/output_transaction.h"
 #include "export/ply_writer.h"
@@ -34,12 +35,24 @@ std::vector<std::pair<std::string, std::string>> provenance(const Bake& bake) {
                   solver.max_iterations, static_cast<double>(o.import.unit_scale),
                   static_cast<double>(o.import.emission_scale), o.lightmaps.texels_per_unit, o.lightmaps.atlas_size,
                   o.lightmaps.padding, o.lightmaps.texel_tolerance);
-    return {{"radbake:version", radbakeGenerator()},
+    std::vector<std::pair<std::string, std::string>> attributes = {
+            {"radbake:version", radbakeGenerator()},
             {"radbake:scene", std::filesystem::path(bake.scene->source_path).filename().string()},
             {"radbake:scene_sha256", bake.scene_sha256},
             {"radbake:inputs_sha256", bake.inputs_sha256},
             {"radbake:inputs", std::to_string(bake.scene ? bake.scene->input_files.size() : 0)},
             {"radbake:options", knobs}};
+    // --lightmap-scales changes the charts, so it belongs to what made the atlas.
+    if (!o.lightmaps.scales.empty()) {
+        std::string scales;
+        for (const LightmapScaleRule& rule : o.lightmaps.scales) {
+            char scale[32];
+            std::snprintf(scale, sizeof scale, "%g", rule.scale);
+            scales += (scales.empty() ? "" : "; ") + rule.name + " = " + scale;
+        }
+        attributes.emplace_back("radbake:lightmap_scales", scales);
+    }
+    return attributes;
 }
 
 // One EXR per atlas as lightmaps/<name>_<k>.exr, each with the provenance and its atlas number.
@@ -59,13 +72,36 @@ bool stageLightmapExrs(OutputTransaction& transaction, const Bake& bake, Diagnos
     return true;
 }
 
+// Each atlas as a PNG an engine reads (lightmap_png.h), to be written beside its EXR as
+// lightmaps/<name>_<k>.png and embedded in the glb. False after reporting.
+bool encodeLightmapPngs(const Bake& bake, std::vector<LightmapPng>& pngs, Diagnostics& diagnostics) {
+    const BakedLightmaps& baked = *bake.lightmaps;
+    for (size_t k = 0; k < baked.lightmaps.images.size(); ++k) {
+        const RgbImage image = toRgbImage(baked.lightmaps.images[k]);
+        LightmapPng png;
+        png.file = std::filesystem::path(baked.files.atlas_files[k]).replace_extension(".png").generic_string();
+        png.scale = lightmapPngScale(image);
+        png.bytes = encodeLightmapPng(image, png.scale);
+        if (png.bytes.empty()) {
+            diagnostics.error({png.file, 0, 0}, "cannot encode lightmap atlas " + std::to_string(k) + " as a PNG");
+            return false;
+        }
+        pngs.push_back(std::move(png));
+    }
+    return true;
+}
+
 bool stageAll(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics) {
     const Scene& scene = *bake.scene;
     const std::string generator = radbakeGenerator();
     const LightmapFiles* lightmap_files = bake.lightmaps ? &bake.lightmaps->files : nullptr;
+    std::vector<LightmapPng> lightmap_pngs;
+    if (bake.lightmaps && !encodeLightmapPngs(bake, lightmap_pngs, diagnostics)) return false;
     GltfOptions gltf;
     gltf.generator = generator;
     gltf.lightmaps = lightmap_files;
+    gltf.lightmap_textures = bake.lightmaps ? &lightmap_pngs : nullptr;
+    gltf.export_lights = bake.options.export_lights;
     if (!writeGlb(transaction.stage(scene.name + ".glb"), scene, bake.vertices, gltf, diagnostics)) return false;
     PlyOptions ply;
     ply.generator = generator;
@@ -76,6 +112,8 @@ bool stageAll(const Bake& bake, OutputTransaction& transaction, Diagnostics& dia
     transaction.retireUnstagedIn("lightmaps");
     transaction.retireUnstagedIn("preview");
     if (bake.lightmaps && !stageLightmapExrs(transaction, bake, diagnostics)) return false;
+    for (const LightmapPng& png : lightmap_pngs)
+        if (!writeFileBytes(transaction.stage(png.file), png.bytes, diagnostics)) return false;
     for (const PreviewImage& preview : bake.previews)
         if (!writePreviewPng(transaction.stage(preview.file), preview.image, preview.exposure, diagnostics))
             return false;

@@ -290,3 +290,38 @@ TEST_CASE("a cube with a large crease angle is still 6 charts") {
         CHECK(buildLightmapCharts(sceneOf({cube}), options).size() == 6);
     }
 }
+
+TEST_CASE("per-mesh texel scale: a mesh at scale s gets s^2 times the texels, s times the density") {
+    // Two 1 m x 1 m floors, 16 texels per metre: 16 x 16 texels each at scale 1.
+    const auto floor = [](float x0) {
+        Mesh mesh;
+        addQuad(mesh, {{x0, 0, 0}, {x0, 0, 1}, {x0 + 1, 0, 1}, {x0 + 1, 0, 0}}, true);
+        return mesh;
+    };
+    const Scene scene = sceneOf({floor(0.0f), floor(2.0f)});
+    LightmapOptions options;
+    options.texels_per_metre = 16.0;
+    const auto texelsOf = [&](const std::vector<LightmapChart>& charts, uint32_t mesh) {
+        double texels = 0.0;
+        for (const LightmapChart& chart : charts)
+            if (chart.mesh == mesh) texels += static_cast<double>(chart.width) * chart.height;
+        return texels;
+    };
+    const std::vector<LightmapChart> even = buildLightmapCharts(scene, options);
+    CHECK(texelsOf(even, 0) == 256.0);
+    CHECK(texelsOf(even, 1) == 256.0);
+
+    options.mesh_texel_scale = {0.5, 2.0};
+    const std::vector<LightmapChart> scaled = buildLightmapCharts(scene, options);
+    CHECK(texelsOf(scaled, 0) == 64.0);    // 8 x 8
+    CHECK(texelsOf(scaled, 1) == 1024.0);  // 32 x 32
+    for (const LightmapChart& chart : scaled) {
+        CHECK(chart.texels_per_metre == (chart.mesh == 0 ? 8.0 : 32.0));
+        checkFacesInside(chart);
+    }
+    // The budget's estimate counts the scaled texels too.
+    CHECK(estimateLightmapTexels(scene, options) == doctest::Approx(64.0 + 1024.0));
+    // A list shorter than the meshes leaves the rest at 1.
+    options.mesh_texel_scale = {2.0};
+    CHECK(texelsOf(buildLightmapCharts(scene, options), 1) == 256.0);
+}

@@ -100,7 +100,7 @@ TEST_CASE("bake writes glb, ply, probes.csv, stats.json and timings.json; probes
     CHECK(filesIn(out) ==
           std::set<std::string>{"lamp.glb", "lamp.ply", "probes.csv", "stats.json", "timings.json", "manifest.json",
                                 "lightmaps"});
-    CHECK(filesIn(out / "lightmaps") == std::set<std::string>{"lamp_0.exr"});
+    CHECK(filesIn(out / "lightmaps") == std::set<std::string>{"lamp_0.exr", "lamp_0.png"});
     // Nothing else beside OUTDIR: the staging directory is gone.
     CHECK(filesIn(tmp.path) == std::set<std::string>{"lamp.mtl", "lamp.obj", "out", "probes.txt"});
     // Quiet: the one-line summary and nothing else.

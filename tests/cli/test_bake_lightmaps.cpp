@@ -90,7 +90,7 @@ TEST_CASE("bake writes EXR lightmaps with provenance, TEXCOORD_1, and a manifest
 
     const std::set<std::string> files = filesUnder(out);
     CHECK(files == std::set<std::string>{"lamp.glb", "lamp.ply", "stats.json", "timings.json", "manifest.json",
-                                         "lightmaps/lamp_0.exr"});
+                                         "lightmaps/lamp_0.exr", "lightmaps/lamp_0.png"});
     const nlohmann::json manifest = nlohmann::json::parse(readBytes(out / "manifest.json"));
     std::set<std::string> listed;
     for (size_t i = 0; i < manifest.at("files").size(); ++i) {
@@ -125,14 +125,14 @@ TEST_CASE("a re-bake with fewer atlases, then --no-lightmaps, leaves no stale li
     const RunResult small = runRadbake(scene + " --atlas-size 16");
     INFO(small.output);
     REQUIRE(small.exit_code == 0);
-    const size_t many = filesUnder(out / "lightmaps").size();
+    const size_t many = filesUnder(out / "lightmaps").size() / 2;  // an EXR and a PNG per atlas
     CHECK(many > 10);
     CHECK(fs::exists(out / "lightmaps" / ("lamp_" + std::to_string(many - 1) + ".exr")));
 
     const RunResult one = runRadbake(scene);
     INFO(one.output);
     REQUIRE(one.exit_code == 0);
-    CHECK(filesUnder(out / "lightmaps") == std::set<std::string>{"lamp_0.exr"});
+    CHECK(filesUnder(out / "lightmaps") == std::set<std::string>{"lamp_0.exr", "lamp_0.png"});
 
     const RunResult none = runRadbake(scene + " --no-lightmaps");
     INFO(none.output);
@@ -196,4 +196,101 @@ TEST_CASE("--max-texels: the default density is lowered to fit, with a warning; 
     CHECK(refused.output.find("error: lightmaps at --texel-density 16 need 4352 texels, above --max-texels 1000: give "
                               "a density of about 7.67 or less") != std::string::npos);
     CHECK_FALSE(fs::exists(tmp.path / "b"));
+}
+
+TEST_CASE("the glb embeds each atlas's PNG, the file beside the EXR, and decodes to the EXR within its step") {
+    TempDir tmp;
+    writeLampScene(tmp.path);
+    const fs::path out = tmp.path / "out";
+    const RunResult run = runRadbake("bake " + quote(tmp.path / "lamp.obj") + " -o " + quote(out) + " -q --quality draft");
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const std::string glb = readBytes(out / "lamp.glb");
+    const nlohmann::json json = nlohmann::json::parse(glbJson(out / "lamp.glb"));
+    const std::string png = readBytes(out / "lightmaps" / "lamp_0.png");
+    REQUIRE(png.size() > 33);
+    CHECK(glb.find(png) != std::string::npos);  // embedded byte for byte
+    size_t lightmapped = 0;
+    for (const nlohmann::json& material : json.at("materials")) {
+        if (!material.contains("extensions")) continue;
+        const nlohmann::json& extension = material.at("extensions").at("MOZ_lightmap");
+        CHECK(extension.at("texCoord").get<int>() == 1);
+        CHECK(material.at("extras").at("radbake_lightmap_png").get<std::string>() == "lightmaps/lamp_0.png");
+        const double scale = material.at("extras").at("radbake_lightmap_scale").get<double>();
+        CHECK(extension.at("intensity").get<double>() == doctest::Approx(kPi * scale));
+        // The scale is the EXR's largest value (the EXR holds halves of the same floats).
+        radbake::Diagnostics diagnostics;
+        const std::optional<radbake::RgbImage> atlas = radbake::readExr(out / "lightmaps" / "lamp_0.exr", diagnostics);
+        REQUIRE(atlas);
+        CHECK(scale == doctest::Approx(*std::max_element(atlas->rgb.begin(), atlas->rgb.end())).epsilon(1e-3));
+        ++lightmapped;
+    }
+    CHECK(lightmapped == 2);  // the lamp's and the floor's materials, both on atlas 0
+}
+
+TEST_CASE("--export-lights writes KHR_lights_punctual marked as baked; without it the glb has no lights") {
+    TempDir tmp;
+    writeText(tmp.path / "lit.wrl",
+              "#VRML V2.0 utf8\n"
+              "PointLight { location 0 1 0 intensity 0.5 }\n"
+              "Shape { appearance Appearance { material Material { diffuseColor 0.5 0.5 0.5 } }\n"
+              "  geometry IndexedFaceSet { coord Coordinate { point [-1 0 -1, -1 0 1, 1 0 1, 1 0 -1] }\n"
+              "    coordIndex [0 1 2 3 -1] } }\n");
+    const std::string bake = "bake " + quote(tmp.path / "lit.wrl") + " -q --quality draft --no-lightmaps";
+    const RunResult plain = runRadbake(bake + " -o " + quote(tmp.path / "plain"));
+    INFO(plain.output);
+    REQUIRE(plain.exit_code == 0);
+    CHECK(glbJson(tmp.path / "plain" / "lit.glb").find("KHR_lights_punctual") == std::string::npos);
+
+    const RunResult lit = runRadbake(bake + " --export-lights -o " + quote(tmp.path / "lit"));
+    INFO(lit.output);
+    REQUIRE(lit.exit_code == 0);
+    const nlohmann::json json = nlohmann::json::parse(glbJson(tmp.path / "lit" / "lit.glb"));
+    const nlohmann::json& lights = json.at("extensions").at("KHR_lights_punctual").at("lights");
+    REQUIRE(lights.size() == 1);
+    CHECK(lights.at(0).at("type") == "point");
+    CHECK(lights.at(0).at("intensity").get<double>() == doctest::Approx(0.5));
+    CHECK(lights.at(0).at("extras").at("radbake_baked").get<bool>());
+}
+
+TEST_CASE("--lightmap-scales: the named mesh gets scale^2 times the texels; the file is in the depfile") {
+    TempDir tmp;
+    writeLampScene(tmp.path);
+    writeText(tmp.path / "scales.txt", "floor 0.5  # half the density\n");
+    const std::string bake = "bake " + quote(tmp.path / "lamp.obj") + " -q --quality draft --texel-density 16";
+    const RunResult even = runRadbake(bake + " -o " + quote(tmp.path / "even"));
+    INFO(even.output);
+    REQUIRE(even.exit_code == 0);
+    const RunResult scaled = runRadbake(bake + " --lightmap-scales " + quote(tmp.path / "scales.txt") + " --depfile " +
+                                        quote(tmp.path / "out.d") + " -o " + quote(tmp.path / "scaled"));
+    INFO(scaled.output);
+    REQUIRE(scaled.exit_code == 0);
+    const double even_texels =
+        nlohmann::json::parse(readBytes(tmp.path / "even" / "stats.json")).at("covered_texels").get<double>();
+    const double scaled_texels =
+        nlohmann::json::parse(readBytes(tmp.path / "scaled" / "stats.json")).at("covered_texels").get<double>();
+    // The 4 x 4 m floor: 64 x 64 texels, then 32 x 32; the 1 x 1 m lamp keeps its 16 x 16.
+    CHECK(even_texels == 64 * 64 + 16 * 16);
+    CHECK(scaled_texels == 32 * 32 + 16 * 16);
+    CHECK(readBytes(tmp.path / "out.d").find("scales.txt") != std::string::npos);
+    // The atlas records the scales that shaped it; a bake without them records none.
+    radbake::Diagnostics diagnostics;
+    const auto scaled_atlas = radbake::readExr(tmp.path / "scaled" / "lightmaps" / "lamp_0.exr", diagnostics);
+    const auto even_atlas = radbake::readExr(tmp.path / "even" / "lightmaps" / "lamp_0.exr", diagnostics);
+    REQUIRE(scaled_atlas);
+    REQUIRE(even_atlas);
+    CHECK(attribute(*scaled_atlas, "radbake:lightmap_scales") == "floor = 0.5");
+    CHECK(attribute(*even_atlas, "radbake:lightmap_scales").empty());
+
+    writeText(tmp.path / "typo.txt", "flor 0.5\n");
+    const RunResult typo = runRadbake(bake + " --lightmap-scales " + quote(tmp.path / "typo.txt") + " -o " +
+                                      quote(tmp.path / "typo"));
+    CHECK(typo.exit_code == 0);
+    CHECK(typo.output.find("typo.txt:1:1: warning: no mesh takes the lightmap scale of 'flor'") != std::string::npos);
+    writeText(tmp.path / "bad.txt", "floor -2\n");
+    const RunResult bad = runRadbake(bake + " --lightmap-scales " + quote(tmp.path / "bad.txt") + " -o " +
+                                     quote(tmp.path / "bad"));
+    CHECK(bad.exit_code == 1);
+    CHECK(bad.output.find("bad.txt:1:7: error:") != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp.path / "bad"));
 }

@@ -10,6 +10,8 @@
 
 #include "export/gltf_writer.h"
 #include "export/hash.h"
+#include "export/lightmap_png.h"
+#include "scene/texture_image.h"
 
 using namespace radbake;
 
@@ -341,7 +343,14 @@ TEST_CASE("glb with lightmaps: one primitive per atlas, TEXCOORD_1, interpolated
             const nlohmann::json& primitive = mesh_json.at("primitives").at(p);
             CHECK(primitive.at("extras").at("radbake_lightmap").get<std::string>() == lightmaps.atlas_files[atlas]);
             CHECK(primitive.at("extras").at("radbake_lightmap_index").get<size_t>() == static_cast<size_t>(atlas));
-            CHECK(primitive.at("material").get<size_t>() == scene.meshes[m].material);
+            // A material of its own per (scene material, atlas), naming its atlas.
+            const nlohmann::json& material = json.at("materials").at(primitive.at("material").get<size_t>());
+            // The floor's material spans two atlases: named apart; the lamp's keeps its name.
+            const std::string& source_name = scene.materials[scene.meshes[m].material].name;
+            CHECK(material.at("name").get<std::string>() ==
+                  (m == 0 ? source_name + " (lightmap " + std::to_string(atlas) + ")" : source_name));
+            CHECK(material.at("extras").at("radbake_lightmap").get<std::string>() == lightmaps.atlas_files[atlas]);
+            CHECK_FALSE((material.contains("extensions") && material.at("extensions").contains("MOZ_lightmap")));
             const nlohmann::json& attributes = primitive.at("attributes");
             CHECK(attributes.at("TEXCOORD_0").get<size_t>() == attributes.at("TEXCOORD_1").get<size_t>());
 
@@ -467,4 +476,214 @@ TEST_CASE("glb cameras: each Viewpoint becomes a perspective camera on a node of
     CHECK(node.at("rotation").at(0).get<double>() == doctest::Approx(q.x));
     CHECK(node.at("rotation").at(3).get<double>() == doctest::Approx(q.w));
     CHECK(json.at("nodes").at(3).at("camera") == 1);
+}
+
+namespace {
+
+// One PNG per atlas of literalLightmaps(): a 2 x 1 image with a bright texel of `peak`.
+std::vector<LightmapPng> literalPngs(const LightmapFiles& lightmaps) {
+    std::vector<LightmapPng> pngs;
+    for (size_t k = 0; k < lightmaps.atlas_files.size(); ++k) {
+        RgbImage image;
+        image.width = 2;
+        image.height = 1;
+        const float peak = 2.0f + static_cast<float>(k);
+        image.rgb = {0.5f, 0.25f, 0.0f, peak, 1.0f, 0.1f};
+        LightmapPng png;
+        png.file = "lightmaps/literal_" + std::to_string(k) + ".png";
+        png.scale = lightmapPngScale(image);
+        png.bytes = encodeLightmapPng(image, png.scale);
+        REQUIRE_FALSE(png.bytes.empty());
+        pngs.push_back(std::move(png));
+    }
+    return pngs;
+}
+
+// The bytes of image `index` through its buffer view.
+std::string imageBytes(const Glb& glb, size_t index) {
+    const nlohmann::json& image = glb.json.at("images").at(index);
+    CHECK(image.at("mimeType").get<std::string>() == "image/png");
+    const nlohmann::json& view = glb.json.at("bufferViews").at(image.at("bufferView").get<size_t>());
+    return glb.bin.substr(view.at("byteOffset").get<size_t>(), view.at("byteLength").get<size_t>());
+}
+
+}  // namespace
+
+TEST_CASE("the lightmap PNG: 16-bit linear samples of value / scale, the scale in a tEXt chunk") {
+    RgbImage image;
+    image.width = 3;
+    image.height = 1;
+    image.rgb = {0.0f, 1.0f, 4.0f, 2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), 3.0f, 0.5f, 0.01f};
+    const float scale = lightmapPngScale(image);
+    CHECK(scale == 4.0f);  // the largest finite value: nothing clips
+    const std::string png = encodeLightmapPng(image, scale);
+    REQUIRE(png.size() > 33);
+    CHECK(png.compare(12, 4, "IHDR") == 0);
+    CHECK(static_cast<int>(png[24]) == 16);  // bit depth
+    CHECK(static_cast<int>(png[25]) == 2);   // RGB
+    CHECK(png.find(std::string("tEXtradbake:lightmap_scale") + '\0' + "4") != std::string::npos);
+    // round(65535 v / 4); negative and NaN give 0.
+    const std::vector<int> expected = {0, 16384, 65535, 32768, 0, 0, 49151, 8192, 164};
+    for (size_t i = 0; i < expected.size(); ++i)
+        if (image.rgb[i] > 0.0f)
+            CHECK(std::fabs(decodeLightmapSample(static_cast<unsigned short>(expected[i]), scale) - image.rgb[i]) <=
+                  scale / 131070.0f + 1e-6f);
+    // A valid PNG (CRCs, zlib stream, Sub filters): stb_image reads it, keeping each sample's high byte.
+    TextureRef ref;
+    ref.path = "literal.png";
+    ref.embedded = std::make_shared<std::string>(png);
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgba;
+    std::string error;
+    REQUIRE(readImageRgba8(ref, width, height, rgba, error));
+    REQUIRE(width == 3);
+    REQUIRE(height == 1);
+    for (int p = 0; p < 3; ++p)
+        for (int c = 0; c < 3; ++c) {
+            CAPTURE(p);
+            CAPTURE(c);
+            CHECK(rgba[4 * p + c] == expected[3 * p + c] >> 8);
+        }
+    RgbImage dark;
+    dark.width = dark.height = 1;
+    dark.rgb = {0.0f, 0.0f, 0.0f};
+    CHECK(lightmapPngScale(dark) == 1.0f);
+    CHECK(encodeLightmapPng(dark, 0.0f).empty());
+}
+
+TEST_CASE("glb lightmap texture: each lightmapped material reaches its atlas's PNG through MOZ_lightmap, texCoord 1") {
+    const Scene scene = literalScene();
+    const LightmapFiles lightmaps = literalLightmaps();
+    const std::vector<LightmapPng> pngs = literalPngs(lightmaps);
+    GltfOptions options;
+    options.lightmaps = &lightmaps;
+    options.lightmap_textures = &pngs;
+    Diagnostics diagnostics;
+    const Glb glb = splitGlb(encodeGlb(scene, literalBake(), options, diagnostics));
+    CHECK(diagnostics.all().empty());
+    const nlohmann::json& json = glb.json;
+    const std::vector<std::string> used = strings(json.at("extensionsUsed"));
+    CHECK(std::find(used.begin(), used.end(), "MOZ_lightmap") != used.end());
+    CHECK_FALSE(json.contains("extensionsRequired"));  // a loader without it still draws the meshes
+
+    const std::vector<std::vector<int>> expected_atlases = {{0, 1}, {0}};
+    for (size_t m = 0; m < 2; ++m)
+        for (size_t p = 0; p < expected_atlases[m].size(); ++p) {
+            CAPTURE(m);
+            CAPTURE(p);
+            const int atlas = expected_atlases[m][p];
+            const nlohmann::json& primitive = json.at("meshes").at(m).at("primitives").at(p);
+            CHECK(primitive.at("attributes").contains("TEXCOORD_1"));
+            CHECK_FALSE(primitive.at("attributes").contains("COLOR_0"));  // the lightmap lights it, not COLOR_0 too
+            CHECK(primitive.at("attributes").contains("_RADBAKE_LIGHT"));
+            const nlohmann::json& material = json.at("materials").at(primitive.at("material").get<size_t>());
+            const nlohmann::json& extension = material.at("extensions").at("MOZ_lightmap");
+            CHECK(extension.at("texCoord").get<int>() == 1);
+            CHECK(extension.at("intensity").get<double>() == doctest::Approx(kPi * pngs[atlas].scale));
+            const nlohmann::json& texture = json.at("textures").at(extension.at("index").get<size_t>());
+            CHECK(imageBytes(glb, texture.at("source").get<size_t>()) == pngs[atlas].bytes);
+            const nlohmann::json& sampler = json.at("samplers").at(texture.at("sampler").get<size_t>());
+            CHECK(sampler.at("wrapS").get<int>() == 33071);  // clamped, not repeating
+            CHECK(sampler.at("minFilter").get<int>() == 9729);  // no mipmaps across charts
+            CHECK(material.at("extras").at("radbake_lightmap_png").get<std::string>() == pngs[atlas].file);
+            CHECK(material.at("extras").at("radbake_lightmap_scale").get<double>() == doctest::Approx(pngs[atlas].scale));
+        }
+    // One image per atlas, however many materials use it.
+    CHECK(json.at("images").size() == 2);
+    CHECK(strings(json.at("asset").at("extras").at("radbake_lightmap_pngs")) ==
+          std::vector<std::string>{pngs[0].file, pngs[1].file});
+
+    std::vector<LightmapPng> short_list = pngs;
+    short_list.pop_back();
+    options.lightmap_textures = &short_list;
+    CHECK(encodeGlb(scene, literalBake(), options, diagnostics).empty());
+    CHECK(diagnostics.errorCount() == 1);
+}
+
+TEST_CASE("glb: one material per (source material, atlas), shared by the primitives of one pair") {
+    Scene scene = literalScene();
+    scene.meshes[1].material = 0;  // the lamp now shares the floor's material, on atlas 0
+    const LightmapFiles lightmaps = literalLightmaps();
+    GltfOptions options;
+    options.lightmaps = &lightmaps;
+    Diagnostics diagnostics;
+    const Glb glb = splitGlb(encodeGlb(scene, literalBake(), options, diagnostics));
+    const nlohmann::json& meshes = glb.json.at("meshes");
+    const size_t floor_0 = meshes.at(0).at("primitives").at(0).at("material").get<size_t>();
+    const size_t floor_1 = meshes.at(0).at("primitives").at(1).at("material").get<size_t>();
+    const size_t lamp_0 = meshes.at(1).at("primitives").at(0).at("material").get<size_t>();
+    CHECK(floor_0 != floor_1);  // one mesh over two atlases: two materials
+    CHECK(lamp_0 == floor_0);   // same material, same atlas: one
+    const nlohmann::json& materials = glb.json.at("materials");
+    CHECK(materials.size() == 2);  // the scene's 'lamp' material is used by no primitive
+    CHECK(materials.at(floor_0).at("name").get<std::string>() == "floor (lightmap 0)");
+    CHECK(materials.at(floor_1).at("name").get<std::string>() == "floor (lightmap 1)");
+    CHECK(materials.at(floor_1).at("extras").at("radbake_lightmap_index").get<int>() == 1);
+    // Both keep the source material's colour.
+    for (const size_t i : {floor_0, floor_1})
+        CHECK(materials.at(i).at("pbrMetallicRoughness").at("baseColorFactor").at(1).get<double>() == doctest::Approx(0.6));
+}
+
+TEST_CASE("glb lights: none by default; with export_lights, KHR_lights_punctual on nodes, marked as baked") {
+    Scene scene = literalScene();
+    Light point;
+    point.type = LightType::Point;
+    point.position = Vec3(1.0f, 2.0f, 3.0f);
+    point.color = Vec3(1.0f, 0.5f, 0.25f);
+    point.intensity = 0.8f;
+    point.radius = 7.0f;
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.direction = Vec3(0.0f, -1.0f, 0.0f);
+    spot.beam_width = 1.0f;  // wider than the cut-off: VRML's hard edge
+    spot.cut_off_angle = 0.5f;
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(Vec3(1.0f, -1.0f, 0.0f));
+    Light off = point;
+    off.on = false;
+    off.location = {"lights.wrl", 12, 3};
+    scene.lights = {point, spot, sun, off};
+
+    Diagnostics diagnostics;
+    const Glb plain = splitGlb(encodeGlb(scene, literalBake(), {}, diagnostics));
+    CHECK_FALSE(plain.json.contains("extensions"));
+    CHECK(strings(plain.json.at("extensionsUsed")) == std::vector<std::string>{"KHR_materials_emissive_strength"});
+    CHECK(plain.json.at("nodes").size() == 2);
+    CHECK(diagnostics.all().empty());
+
+    GltfOptions options;
+    options.export_lights = true;
+    const Glb glb = splitGlb(encodeGlb(scene, literalBake(), options, diagnostics));
+    REQUIRE(diagnostics.warningCount() == 1);  // the light that is off
+    CHECK(diagnostics.all()[0].location.line == 12);
+    const nlohmann::json& json = glb.json;
+    CHECK(strings(json.at("extensionsUsed")) ==
+          std::vector<std::string>{"KHR_materials_emissive_strength", "KHR_lights_punctual"});
+    const nlohmann::json& lights = json.at("extensions").at("KHR_lights_punctual").at("lights");
+    REQUIRE(lights.size() == 3);
+    for (const nlohmann::json& light : lights) CHECK(light.at("extras").at("radbake_baked").get<bool>());
+    CHECK(lights.at(0).at("type") == "point");
+    CHECK(lights.at(0).at("intensity").get<double>() == doctest::Approx(0.8));  // the largest channel, W/sr
+    CHECK(lights.at(0).at("color").at(2).get<double>() == doctest::Approx(0.25));
+    CHECK(lights.at(0).at("range").get<double>() == doctest::Approx(7.0));
+    const nlohmann::json& cone = lights.at(1).at("spot");
+    CHECK(cone.at("outerConeAngle").get<double>() == doctest::Approx(0.5));
+    CHECK(cone.at("innerConeAngle").get<double>() < cone.at("outerConeAngle").get<double>());
+    CHECK(lights.at(2).at("type") == "directional");
+
+    // Mesh nodes, then one node per light that is on, each in the scene.
+    REQUIRE(json.at("nodes").size() == 5);
+    CHECK(json.at("scenes").at(0).at("nodes").size() == 5);
+    for (size_t k = 0; k < 3; ++k)
+        CHECK(json.at("nodes").at(2 + k).at("extensions").at("KHR_lights_punctual").at("light").get<size_t>() == k);
+    CHECK(json.at("nodes").at(2).at("translation").at(1).get<double>() == doctest::Approx(2.0));
+    // The node's rotation turns glTF's light direction (-Z) onto the light's.
+    for (const size_t k : {1u, 2u}) {
+        const nlohmann::json& r = json.at("nodes").at(2 + k).at("rotation");
+        const Quat q(r.at(3).get<float>(), r.at(0).get<float>(), r.at(1).get<float>(), r.at(2).get<float>());
+        const Vec3 d = q * Vec3(0.0f, 0.0f, -1.0f);
+        const Vec3 expected = k == 1 ? spot.direction : sun.direction;
+        CHECK(glm::length(d - expected) < 1e-5f);
+    }
 }

@@ -1,0 +1,101 @@
+#include "pipeline/lightmap_scales.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace radbake {
+namespace {
+
+std::string trim(const std::string& s) {
+    const size_t begin = s.find_first_not_of(" \t\r");
+    if (begin == std::string::npos) return {};
+    return s.substr(begin, s.find_last_not_of(" \t\r") - begin + 1);
+}
+
+}  // namespace
+
+std::optional<std::vector<LightmapScaleRule>> parseLightmapScales(const std::string& text, const std::string& path,
+                                                                  Diagnostics& diagnostics) {
+    std::vector<LightmapScaleRule> rules;
+    std::map<std::string, int> first_line;
+    const int errors_before = diagnostics.errorCount();
+    std::istringstream in(text);
+    std::string raw;
+    for (int line = 1; std::getline(in, raw); ++line) {
+        const std::string content = trim(raw.substr(0, raw.find('#')));
+        if (content.empty()) continue;
+        const size_t split = content.find_last_of(" \t");
+        const SourceLocation where{path, line, 1};
+        if (split == std::string::npos) {
+            diagnostics.error(where, "expected 'NAME SCALE' (a mesh or material name, then its texel-density scale)");
+            continue;
+        }
+        LightmapScaleRule rule{trim(content.substr(0, split)), 0.0, where};
+        const std::string number = content.substr(split + 1);
+        char* end = nullptr;
+        errno = 0;
+        rule.scale = std::strtod(number.c_str(), &end);
+        if (end != number.c_str() + number.size() || errno != 0 || !std::isfinite(rule.scale) || !(rule.scale > 0.0)) {
+            diagnostics.error({path, line, static_cast<int>(raw.find(number)) + 1},
+                              "lightmap scale '" + number + "' of '" + rule.name + "' is not a positive number");
+            continue;
+        }
+        if (const auto [it, added] = first_line.emplace(rule.name, line); !added) {
+            diagnostics.error(where, "'" + rule.name + "' is given a lightmap scale twice (first on line " +
+                                         std::to_string(it->second) + ")");
+            continue;
+        }
+        rules.push_back(std::move(rule));
+    }
+    if (diagnostics.errorCount() > errors_before) return std::nullopt;
+    return rules;
+}
+
+std::optional<std::vector<LightmapScaleRule>> readLightmapScales(const std::string& path, Diagnostics& diagnostics) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {  // a folder opens, then reads as nothing
+        diagnostics.error({path, 0, 0}, "cannot open lightmap scale file: not a regular file");
+        return std::nullopt;
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        diagnostics.error({path, 0, 0}, "cannot open lightmap scale file");
+        return std::nullopt;
+    }
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    if (in.bad()) {
+        diagnostics.error({path, 0, 0}, "cannot read lightmap scale file");
+        return std::nullopt;
+    }
+    return parseLightmapScales(buffer.str(), path, diagnostics);
+}
+
+std::vector<double> meshTexelScales(const Scene& scene, const std::vector<LightmapScaleRule>& rules,
+                                    Diagnostics& diagnostics) {
+    std::map<std::string, size_t> by_name;
+    for (size_t r = 0; r < rules.size(); ++r) by_name.emplace(rules[r].name, r);
+    std::vector<bool> used(rules.size(), false);
+    std::vector<double> scales(scene.meshes.size(), 1.0);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        auto it = by_name.find(mesh.name);
+        if (it == by_name.end() && mesh.material < scene.materials.size())
+            it = by_name.find(scene.materials[mesh.material].name);
+        if (it == by_name.end()) continue;
+        scales[m] = rules[it->second].scale;
+        used[it->second] = true;
+    }
+    for (size_t r = 0; r < rules.size(); ++r)
+        if (!used[r])
+            diagnostics.warning(rules[r].location, "no mesh takes the lightmap scale of '" + rules[r].name +
+                                                       "' (no mesh or material of the scene has that name)");
+    return scales;
+}
+
+}  // namespace radbake
