@@ -164,7 +164,9 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     out.report.solve = out.solution->stats;
 
     progress.beginPhase("vertices");
-    out.vertices = bakeVertices(scene, *out.solution, runner, &progress);
+    // --texel-tolerance 0 (the reference preset) reads every vertex with the exhaustive gather too.
+    const GatherMode gather = options.lightmaps.texel_tolerance > 0.0 ? GatherMode::Links : GatherMode::Exhaustive;
+    out.vertices = bakeVertices(scene, *out.solution, runner, &progress, gather);
     if (stopped()) return;
 
     if (charts) {

@@ -292,7 +292,7 @@ static_assert(std::is_same_v<decltype(&solveRadiosity),
                              std::optional<Solution> (*)(const Scene&, const PartSet&, const SolverOptions&,
                                                          ParallelRunner&, Progress&, Diagnostics&)>);
 static_assert(std::is_same_v<decltype(&bakeVertices),
-                             VertexBake (*)(const Scene&, const Solution&, ParallelRunner&, Progress*)>);
+                             VertexBake (*)(const Scene&, const Solution&, ParallelRunner&, Progress*, GatherMode)>);
 static_assert(std::is_same_v<decltype(&chartLightmapsWithinBudget),
                              std::optional<LightmapCharts> (*)(const Scene&, LightmapOptions, const LightmapBudget&,
                                                                Diagnostics&)>);

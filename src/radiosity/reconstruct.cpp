@@ -1,0 +1,217 @@
+// The link reconstruction (reconstruct.h): what it gathers, and why, is described there.
+#include "radiosity/reconstruct.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "radiosity/cluster.h"
+#include "radiosity/gather.h"
+#include "radiosity/punctual_lights.h"
+
+namespace radbake {
+namespace {
+
+bool isClusterNode(uint32_t node) { return (node & kClusterNode) != 0; }
+
+// Receiver key of a node: roots first, then clusters (the order cluster links are grouped in).
+size_t keyOf(const Solution& s, uint32_t node) {
+    return isClusterNode(node) ? s.root_count + (node & ~kClusterNode) : node;
+}
+
+struct Members {
+    uint32_t first = 0, count = 0;
+};
+Members membersOf(const Solution& s, uint32_t node) {
+    if (isClusterNode(node)) {
+        const Cluster& c = s.clusters[node & ~kClusterNode];
+        return {c.first_member, c.member_count};
+    }
+    return {s.member_position[node], 1};
+}
+
+DVec3 centroidOf(const Solution& s, uint32_t node) {
+    return isClusterNode(node) ? s.clusters[node & ~kClusterNode].centroid : s.elements[node].centroid;
+}
+
+// cluster.cpp's separable source weight: A_i cos_i / (pi d^3) towards c_r (keep in step).
+double sourceWeight(const Element& i, const DVec3& c_r) {
+    const DVec3 u = c_r - i.centroid;
+    const double d2 = glm::dot(u, u);
+    const double cos_d = glm::dot(i.normal, u);
+    if (!(cos_d > 0.0) || !(d2 > 0.0)) return 0.0;
+    return i.area * cos_d / (kPi * d2 * std::sqrt(d2));
+}
+
+// Index of the polygon among `candidates` nearest to p (first on ties).
+template <class Range>
+uint32_t nearest(const Solution& s, const Range& candidates, const DVec3& p) {
+    uint32_t best = kNoElement;
+    double best_distance = 0.0;
+    for (uint32_t e : candidates) {
+        const double d = pointPolygonDistance(p, polygonOf(s, s.elements[e]));
+        if (best == kNoElement || d < best_distance) {
+            best = e;
+            best_distance = d;
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
+LinkReconstruction::LinkReconstruction(const Solution& solution, ParallelRunner& runner) : s_(solution) {
+    const Solution& s = s_;
+    link_begin_.assign(s.elements.size() + 1, 0);
+    for (const Link& link : s.links) ++link_begin_[link.receiver + 1];
+    for (size_t i = 0; i < s.elements.size(); ++i) link_begin_[i + 1] += link_begin_[i];
+    roots_.reserve(s.root_count);
+    for (uint32_t r = 0; r < s.root_count; ++r) roots_.push_back({s.elements[r].mesh, s.elements[r].polygon, r});
+    std::sort(roots_.begin(), roots_.end(), [](const RootKey& a, const RootKey& b) {
+        return std::tie(a.mesh, a.polygon, a.root) < std::tie(b.mesh, b.polygon, b.root);
+    });
+    if (s.cluster_links.empty()) return;
+    const size_t keys = s.root_count + s.clusters.size();
+    cluster_begin_.assign(keys + 1, 0);
+    for (const ClusterLink& link : s.cluster_links) ++cluster_begin_[keyOf(s, link.receiver) + 1];
+    for (size_t k = 0; k < keys; ++k) cluster_begin_[k + 1] += cluster_begin_[k];
+    // Separable links: the source's weighted radiosity towards the receiver's centroid, as
+    // the solve's ClusterTransfer computes it.
+    separable_flux_.assign(s.cluster_links.size(), DVec3(0.0));
+    runner.forEach(s.cluster_links.size(), 64, [&](size_t l) {
+        const ClusterLink& link = s.cluster_links[l];
+        if (link.kernel != kNoKernel || !(link.visibility > 0.0f)) return;
+        const Members sm = membersOf(s, link.source);
+        const DVec3 c_r = centroidOf(s, link.receiver);
+        DVec3 flux(0.0);
+        for (uint32_t k = sm.first; k < sm.first + sm.count; ++k) {
+            const Element& e = s.elements[s.cluster_members[k]];
+            flux += sourceWeight(e, c_r) * e.radiosity;
+        }
+        separable_flux_[l] = double(link.scale) * flux;
+    });
+}
+
+DVec3 LinkReconstruction::gatherClusters(uint32_t root, gather::Gatherer& g) const {
+    const Solution& s = s_;
+    DVec3 h(0.0);
+    const auto visit = [&](uint32_t node) {
+        const size_t key = keyOf(s, node);
+        for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
+            const ClusterLink& link = s.cluster_links[l];
+            if (!(link.visibility > 0.0f)) continue;
+            if (link.kernel == kNoKernel) {
+                // Separable (far, wholly visible): the solve's product form, its receiver
+                // cosine taken at the point.
+                const DVec3 c_s = centroidOf(s, link.source), c_r = centroidOf(s, link.receiver);
+                const DVec3 u = c_s - g.point;
+                const double d2 = glm::dot(u, u), cos_d = glm::dot(g.normal, u);
+                if (cos_d > 0.0 && d2 > 0.0) {
+                    const DVec3 w = c_s - c_r;
+                    h += cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2) * separable_flux_[l];
+                }
+                continue;
+            }
+            // Pairwise (near): each member pair that carries light (some of its rays open),
+            // gathered like an element link from the source member; rays unless the link's
+            // shaft proved it wholly visible (it then keeps no candidate list).
+            const Members rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
+            const uint32_t j = s.member_position[root] - rm.first;
+            g.use_rays = s.rays && link.candidates != kNoList;
+            for (uint32_t i = 0; i < sm.count; ++i)
+                if (s.cluster_kernel[link.kernel + size_t(i) * rm.count + j] > 0.0) g.visit(s.cluster_members[sm.first + i]);
+        }
+    };
+    visit(root);
+    for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent) visit(c | kClusterNode);
+    return h;
+}
+
+uint32_t LinkReconstruction::leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const {
+    const Solution& s = s_;
+    if (!s.scene || mesh >= s.scene->meshes.size()) return kNoElement;
+    const Mesh& m = s.scene->meshes[mesh];
+    if (triangle >= m.triangles.size()) return kNoElement;
+    const uint32_t polygon = m.triangle_polygon.empty() ? triangle : m.triangle_polygon[triangle];
+    const auto [lo, hi] = std::equal_range(roots_.begin(), roots_.end(), RootKey{mesh, polygon, 0},
+                                           [](const RootKey& a, const RootKey& b) {
+                                               return std::tie(a.mesh, a.polygon) < std::tie(b.mesh, b.polygon);
+                                           });
+    if (lo == hi) return kNoElement;
+    std::vector<uint32_t> candidates;
+    for (auto it = lo; it != hi; ++it) candidates.push_back(it->root);
+    uint32_t e = nearest(s, candidates, p_world);
+    while (!s.elements[e].isLeaf()) {
+        const Element& element = s.elements[e];
+        std::array<uint32_t, 8> children{};
+        const uint32_t count = std::min<uint32_t>(element.child_count, 8);
+        for (uint32_t c = 0; c < count; ++c) children[c] = element.first_child + c;
+        e = nearest(s, std::span<const uint32_t>(children.data(), count), p_world);
+    }
+    return e;
+}
+
+DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                                   ProbeCounters* counters) const {
+    const Solution& s = s_;
+    const uint32_t leaf = leafAt(mesh, triangle, p_world);
+    // Only a point on its element's front side reads that element's links, and only a
+    // surface that reflects: the solve links nothing to a black receiver (an emitter, most
+    // often), whose texels still hold what it receives.
+    if (leaf == kNoElement || !(glm::dot(s.elements[leaf].normal, normal) > 0.5) ||
+        !(maxChannel(s.elements[leaf].reflectance) > 0.0))
+        return counters ? probeIrradianceCounted(s, p_world, normal, *counters) : probeIrradiance(s, p_world, normal);
+    const uint32_t root = s.elements[leaf].root;
+    const double lift = gather::kLift * s.scene_extent;
+    // The lift off the polygons the point touches (gather.h), among those that can light it:
+    // its own root and the roots of its links' sources.
+    std::array<uint32_t, 64> touched{};
+    size_t touched_count = 0;
+    DVec3 direction(0.0);
+    const auto touch = [&](uint32_t r) {
+        for (size_t k = 0; k < touched_count; ++k)
+            if (touched[k] == r) return;
+        if (touched_count < touched.size()) touched[touched_count++] = r;
+        gather::addLiftDirection(s, r, p_world, lift, direction);
+    };
+    touch(root);
+    for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
+        for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
+            const Element& source = s.elements[s.links[l].source];
+            // A source polygon can touch the point only if it comes within lift of it.
+            if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(source.root);
+        }
+    const DVec3 point = p_world + lift * direction;
+    gather::Gatherer g{.s = s,
+                       .point = point,
+                       .normal = normal,
+                       .origin = point + lift * normal,
+                       .lift = lift,
+                       .counters = counters,
+                       .coarse_rule = false};
+    for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
+        for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
+            const Link& link = s.links[l];
+            if (!(link.visibility > 0.0f)) continue;
+            g.use_rays = s.rays && (link.visibility < 1.0f || link.by_rays);
+            g.visit(link.source);
+        }
+    DVec3 h(0.0);
+    if (!cluster_begin_.empty()) h += gatherClusters(root, g);  // pairs add to g.sum
+    h += g.sum;
+    if (s.scene && !s.scene->lights.empty())
+        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal);
+    return h;
+}
+
+DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                     const DVec3& normal) const {
+    return evaluate(mesh, triangle, p_world, normal, nullptr);
+}
+
+DVec3 LinkReconstruction::irradianceCounted(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                            const DVec3& normal, ProbeCounters& counters) const {
+    return evaluate(mesh, triangle, p_world, normal, &counters);
+}
+
+}  // namespace radbake
