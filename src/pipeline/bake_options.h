@@ -34,6 +34,9 @@ struct BakeOptions {
     // file's units; nullopt: no probes.csv (an empty list writes one with its header only).
     std::optional<std::vector<Probe>> probes;
     bool preview = false;              // render preview PNGs (the first Viewpoint, each atlas)
+    // --solution FILE: reuse the radiosity solution saved there when the scene and solver
+    // settings match (pipeline/solution_cache.h), else solve and save it there; empty: neither.
+    std::string solution_file;
     Threading threading;               // every phase's threads (0: all cores; not pinned)
 
     // Every preset of `quality`: the solver's knobs and the texel tolerance.

@@ -63,6 +63,9 @@ struct Gatherer {
     // link reconstruction turns it off below partly visible links: the solver refined them
     // until they carry little, and a piece whose rays disagree is still split.
     bool coarse_rule = true;
+    // Without it, a partly visible piece is opened down to this radius / distance only
+    // (with it: probe_visibility_ratio).
+    double link_visibility_ratio = 0.05;
 
     // Unblocked fraction of an n x n grid of segments from the probe to the polygon.
     // Returns the open count in `open` and the ray count in `total`.
@@ -78,7 +81,8 @@ struct Gatherer {
     // below probe_visibility_ratio x its distance: a fixed 2x2 grid would give steps of 1/4
     // of its light, and a penumbra narrower than the grid would be lost altogether.
     bool fineEnough(const DVec3& centroid, double radius) const {
-        return radius <= s.options.probe_visibility_ratio * glm::length(centroid - point);
+        return radius <= (coarse_rule ? s.options.probe_visibility_ratio : link_visibility_ratio) *
+                             glm::length(centroid - point);
     }
     // Unanimous rays are trusted only on pieces below probe_visibility_coarse x distance: a
     // sliver of light between the rays of a larger piece would read as black (a penumbra at 0).

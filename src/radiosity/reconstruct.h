@@ -5,8 +5,10 @@
 // cover, once, everything the solver let light the point), with exact point-to-polygon
 // form factors, each source opened like the exhaustive gather opens elements, and:
 //   - a link's own visibility where the solver knows it (1 proven by its shaft: no rays;
-//     0: nothing), rays only for the others (partly visible, or sampled wholly visible by
-//     the solver's few rays, between which a shadow edge may pass);
+//     0: nothing); for the others (partly visible, or found wholly visible by the solver's
+//     few rays, between which a shadow edge may pass) rays at the point where the source
+//     may bring more than a small share of the point's light, the link's own visibility
+//     elsewhere;
 //   - cluster links likewise: a pairwise link's member pairs gathered like element links
 //     (rays unless its shaft proved it visible), a separable link
 //     (far, wholly visible) by the solve's own product form, its receiver cosine taken at
@@ -53,9 +55,13 @@ public:
 private:
     DVec3 evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                    ProbeCounters* counters) const;
-    // The light of the cluster links reaching `root` at g's point: separable ones returned,
-    // pairwise ones gathered into g.sum.
-    DVec3 gatherClusters(uint32_t root, gather::Gatherer& g) const;
+    struct PendingSource {
+        uint32_t source;  // element
+        double light;     // f B (max channel), unoccluded
+        DVec3 fallback;   // its light without rays
+    };
+    void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
+                     DVec3& separable) const;
 
     const Solution& s_;
     std::vector<size_t> link_begin_;  // per element + 1: its links in Solution::links

@@ -5,6 +5,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -316,4 +317,42 @@ TEST_CASE("a bake over its memory budget stops with an error naming the budget, 
     // The default budget is the machine's: a bake well within it runs.
     options.solver.max_memory_mb = 0.0;
     CHECK(bakeQuietly(litRoom(), options).ok());
+}
+
+TEST_CASE("a saved solution is reused by a bake with other lightmap settings, and gives a fresh bake's outputs") {
+    const Scene scene = litRoom();
+    TempDir dir;
+    BakeOptions options = draftOptions(2);
+    options.solution_file = (dir.path / "lit_room.solution").string();
+    const Bake first = bakeQuietly(scene, options);
+    REQUIRE(first.ok());
+    REQUIRE(std::filesystem::exists(options.solution_file));
+    const auto solved = [](const Bake& b) {
+        return std::any_of(b.report.phases.begin(), b.report.phases.end(),
+                           [](const auto& phase) { return phase.first.rfind("links", 0) == 0; });
+    };
+    CHECK(solved(first));
+
+    // Another density and padding: the solution is read back, not solved again, and every
+    // output is what a bake without the file gives.
+    options.lightmaps.texels_per_unit = 24.0;
+    options.lightmaps.padding = 3;
+    const Bake reused = bakeQuietly(scene, options);
+    CHECK_FALSE(solved(reused));
+    BakeOptions fresh_options = options;
+    fresh_options.solution_file.clear();
+    const Bake fresh = bakeQuietly(scene, fresh_options);
+    checkSameBake(fresh, reused);
+    CHECK(reused.report.solve.elements == fresh.report.solve.elements);
+    CHECK(reused.report.solve.rays == fresh.report.solve.rays);
+
+    // Other solver settings: solved again (and saved for them).
+    options.solver.error_threshold *= 0.5;
+    const Bake resolved = bakeQuietly(scene, options);
+    REQUIRE(resolved.ok());
+    CHECK(solved(resolved));
+    // Another scene: solved again.
+    Scene moved = scene;
+    moved.meshes.back().positions[0].x += 0.01f;
+    CHECK(solved(bakeQuietly(moved, options)));
 }

@@ -106,7 +106,7 @@ TEST_CASE("the link reconstruction gives the exhaustive gather's light within th
             c.rays_exhaustive);
     CHECK(c.rms < 0.02);  // the medium --texel-tolerance
     CHECK(c.worst < 0.1);
-    CHECK(c.rays_links * 4 < c.rays_exhaustive);  // rays only below partly visible links
+    CHECK(c.rays_links * 10 < c.rays_exhaustive);  // rays only where they can matter
 }
 
 TEST_CASE("the link reconstruction reads the light of cluster links") {
@@ -121,6 +121,7 @@ TEST_CASE("the link reconstruction reads the light of cluster links") {
             c.rays_exhaustive);
     CHECK(c.rms < 0.02);
     CHECK(c.worst < 0.1);
+    CHECK(c.rays_links * 10 < c.rays_exhaustive);
 }
 
 TEST_CASE("the link reconstruction does not depend on the thread count it was built with") {
