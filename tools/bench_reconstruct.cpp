@@ -87,13 +87,15 @@ int main(int argc, char** argv) {
     std::string quality = "medium";
     double density = 16.0;
     int threads = 0;
-    bool exhaustive_texels = true;
+    bool exhaustive_texels = true, exhaustive_vertices = true, texels = true;
     int first = 1;
     if (argc > 1 && argv[1][0] != '-') path = argv[first++];
     for (int i = first; i < argc; ++i) {
         const std::string key = argv[i];
-        if (key == "--skip-exhaustive-texels") {
+        if (key == "--skip-exhaustive-texels" || key == "--skip-exhaustive" || key == "--vertices-only") {
             exhaustive_texels = false;
+            exhaustive_vertices = key == "--skip-exhaustive-texels";
+            texels = key != "--vertices-only";
             continue;
         }
         if (i + 1 >= argc) {
@@ -135,9 +137,43 @@ int main(int argc, char** argv) {
     start = std::chrono::steady_clock::now();
     const VertexBake v_links = bakeVertices(*scene, *solution, runner, nullptr, GatherMode::Links);
     const double t_links = seconds(start);
-    start = std::chrono::steady_clock::now();
-    const VertexBake v_ref = bakeVertices(*scene, *solution, runner, nullptr, GatherMode::Exhaustive);
-    const double t_ref = seconds(start);
+    // Work per vertex: the reconstruction at each vertex with its first face's normal.
+    {
+        const LinkReconstruction links(*solution, runner);
+        ProbeCounters counters;
+        size_t n = 0;
+        size_t fallback[4] = {0, 0, 0, 0}, fallback_rays[4] = {0, 0, 0, 0};
+        for (uint32_t m = 0; m < scene->meshes.size(); ++m) {
+            const Mesh& mesh = scene->meshes[m];
+            for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+                const DVec3 a(mesh.positions[mesh.triangles[t].x]), b(mesh.positions[mesh.triangles[t].y]),
+                    c(mesh.positions[mesh.triangles[t].z]);
+                const DVec3 cr = glm::cross(b - a, c - a);
+                if (!(glm::length(cr) > 0.0)) continue;
+                const size_t before = counters.rays;
+                links.irradianceCounted(m, t, a, glm::normalize(cr), counters);
+                ++n;
+                const uint32_t leaf = links.leafAt(m, t, a);
+                const int why = leaf == kNoElement ? 0
+                                : glm::dot(solution->elements[leaf].normal, glm::normalize(cr)) <= 0.5 ? 1
+                                : !(std::max({solution->elements[leaf].reflectance.x, solution->elements[leaf].reflectance.y, solution->elements[leaf].reflectance.z}) > 0.0) ? 2 : 3;
+                fallback[why] += 1;
+                fallback_rays[why] += counters.rays - before;
+            }
+        }
+        const double dn = static_cast<double>(std::max<size_t>(n, 1));
+        std::printf("corners: no leaf %zu (rays %zu), back %zu (%zu), black %zu (%zu), links %zu (%zu)\n", fallback[0],
+                    fallback_rays[0], fallback[1], fallback_rays[1], fallback[2], fallback_rays[2], fallback[3], fallback_rays[3]);
+        std::printf("per corner evaluation: rays %.1f form_factors %.1f pieces %.1f\n", counters.rays / dn,
+                    counters.form_factors / dn, counters.pieces / dn);
+    }
+    VertexBake v_ref = v_links;
+    double t_ref = 0.0;
+    if (exhaustive_vertices) {
+        start = std::chrono::steady_clock::now();
+        v_ref = bakeVertices(*scene, *solution, runner, nullptr, GatherMode::Exhaustive);
+        t_ref = seconds(start);
+    }
     std::vector<std::pair<size_t, size_t>> vertices;
     for (size_t m = 0; m < v_ref.values.size(); ++m)
         for (size_t v = 0; v < v_ref.values[m].size(); ++v) vertices.emplace_back(m, v);
@@ -150,6 +186,7 @@ int main(int argc, char** argv) {
     std::printf("vertices %zu links_us_per_vertex %.1f exhaustive_us_per_vertex %.1f rms %.4f worst %.4f\n",
                 vertices.size(), 1e6 * t_links / nv, 1e6 * t_ref / nv, ev.rms, ev.worst);
 
+    if (!texels) return 0;
     // Texels.
     LightmapOptions options;
     options.texels_per_metre = density;

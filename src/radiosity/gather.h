@@ -66,6 +66,8 @@ struct Gatherer {
     // Without it, a partly visible piece is opened down to this radius / distance only
     // (with it: probe_visibility_ratio).
     double link_visibility_ratio = 0.05;
+    // Pieces below a leaf are split for visibility at most this many times.
+    int max_visibility_splits = kMaxVisibilitySplits;
 
     // Unblocked fraction of an n x n grid of segments from the probe to the polygon.
     // Returns the open count in `open` and the ray count in `total`.
@@ -109,7 +111,7 @@ struct Gatherer {
         if (partial) suspect = kSuspectLevels;
         // Neither rule can split past these limits: skip the piece's geometry then.
         const int coarse_splits = coarse_rule ? kMaxCoarseSplits : 0;
-        if (splits < kMaxVisibilitySplits && (splits < coarse_splits || suspect > 0)) {
+        if (splits < max_visibility_splits && (splits < coarse_splits || suspect > 0)) {
             // The centroid and radius setElementGeometry would give, without the rest of it.
             const DVec3 centroid = polygonCentroid(loop);
             double radius = 0.0;

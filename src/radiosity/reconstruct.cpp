@@ -12,13 +12,16 @@
 namespace radbake {
 namespace {
 
-// Measured on the Cornell Box at 64 texels/m against the exhaustive gather (docs in the
-// issue 12 note; tools/bench_reconstruct): rays for every link that is not proven visible
-// cost 580 us a texel for 1.7 % RMS; rays only for links that may bring more than 0.3 % of
-// the point's light, and partly visible pieces opened down to 0.05 radius / distance, 130
-// us for 1.8 %; 1 % and 0.1: 25 us for 6 %; no rays at all 10 us for 34 %.
+// Where rays go, measured on the Cornell Box at 64 texels/m against the exhaustive gather
+// (tools/bench_reconstruct, 2 threads): rays for every link not proven visible, pieces split
+// as the exhaustive gather splits them: 580 us a texel for 1.7 % RMS. Rays only for sources
+// that may bring more than 0.3 % of the point's light (the link's own visibility for the
+// rest), a partly visible piece opened down to 0.05 radius / distance and split at most
+// once below a leaf: 40-60 us for 1.8 % (and 240 rays instead of 1,500 per vertex of
+// house.wrl). 1 % and no split: 25 us for 2.9 %; no rays at all: 10 us for 34 %.
 constexpr double kRayShare = 0.003;
 constexpr double kLinkVisibilityRatio = 0.05;
+constexpr int kLinkVisibilitySplits = 1;
 
 bool isClusterNode(uint32_t node) { return (node & kClusterNode) != 0; }
 
@@ -51,13 +54,16 @@ double sourceWeight(const Element& i, const DVec3& c_r) {
     return i.area * cos_d / (kPi * d2 * std::sqrt(d2));
 }
 
-// Index of the polygon among `candidates` nearest to p (first on ties).
+// The polygon among `candidates` that holds p: the first within a rounding tolerance of it
+// (1e-6 of its size: a point on the edge two children share, a chart edge's sample, goes to
+// the first whatever the scene's scale), else the nearest.
 template <class Range>
 uint32_t nearest(const Solution& s, const Range& candidates, const DVec3& p) {
     uint32_t best = kNoElement;
     double best_distance = 0.0;
     for (uint32_t e : candidates) {
         const double d = pointPolygonDistance(p, polygonOf(s, s.elements[e]));
+        if (d <= 1e-6 * s.elements[e].radius) return e;
         if (best == kNoElement || d < best_distance) {
             best = e;
             best_distance = d;
@@ -230,7 +236,8 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
                        .lift = lift,
                        .counters = counters,
                        .coarse_rule = false,
-                       .link_visibility_ratio = kLinkVisibilityRatio};
+                       .link_visibility_ratio = kLinkVisibilityRatio,
+                       .max_visibility_splits = kLinkVisibilitySplits};
     std::vector<PendingSource> pending;
     DVec3 separable(0.0);
     gatherLinks(leaf, g, pending, separable);
