@@ -12,14 +12,19 @@
 namespace radbake {
 namespace {
 
-// Where rays go, measured on the Cornell Box at 64 texels/m against the exhaustive gather
-// (tools/bench_reconstruct, 2 threads): rays for every link not proven visible, pieces split
-// as the exhaustive gather splits them: 580 us a texel for 1.7 % RMS. Rays only for sources
-// that may bring more than 0.3 % of the point's light (the link's own visibility for the
-// rest), a partly visible piece opened down to 0.05 radius / distance and split at most
-// once below a leaf: 40-60 us for 1.8 % (and 240 rays instead of 1,500 per vertex of
-// house.wrl). 1 % and no split: 25 us for 2.9 %; no rays at all: 10 us for 34 %.
-constexpr double kRayShare = 0.003;
+// Where rays go, measured against the exhaustive gather with tools/bench_reconstruct
+// (2 threads, CPU time; RMS of the relative error over covered texels / vertices). Rays for
+// every link not proven visible, pieces split as the exhaustive gather splits them: 580 us a
+// texel of the Cornell Box at 64 texels/m for 1.7 % RMS. Rays for the sources with the most
+// unoccluded light until the rest could bring at most 5 % of the point's light (the
+// solver's visibility for that rest), a partly visible piece opened down to 0.05 radius /
+// distance and split at most once below a leaf: 55 us a texel for 2.2 %; vertices of the
+// tessellated Cornell box 190 us for 8.6 % (the block bottom edges, where the exhaustive
+// gather is itself 30-60 % off a path tracer), house.wrl 130 us. A per-source share of
+// 0.3 % instead of a bound on the rest: 45 us a texel for 1.8 % but 26 % on the
+// tessellated box (light leaking under its blocks through many small links); no rays at
+// all: 10 us a texel for 34 %.
+constexpr double kRayShare = 0.05;
 constexpr double kLinkVisibilityRatio = 0.05;
 constexpr int kLinkVisibilitySplits = 1;
 
@@ -106,6 +111,27 @@ LinkReconstruction::LinkReconstruction(const Solution& solution, ParallelRunner&
     });
 }
 
+template <class F>
+void LinkReconstruction::forClusterPairs(uint32_t root, F&& f) const {
+    const Solution& s = s_;
+    if (cluster_begin_.empty()) return;
+    const auto visit = [&](uint32_t node) {
+        const size_t key = keyOf(s, node);
+        for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
+            const ClusterLink& link = s.cluster_links[l];
+            if (!(link.visibility > 0.0f) || link.kernel == kNoKernel) continue;
+            const Members rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
+            const uint32_t j = s.member_position[root] - rm.first;
+            for (uint32_t i = 0; i < sm.count; ++i) {
+                const double kernel = s.cluster_kernel[link.kernel + size_t(i) * rm.count + j];
+                if (kernel > 0.0) f(s.cluster_members[sm.first + i], kernel, link);
+            }
+        }
+    };
+    visit(root);
+    for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent) visit(c | kClusterNode);
+}
+
 // Gathers what needs no rays into g.sum (or `separable`), and lists in `pending` what does.
 void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
                                      DVec3& separable) const {
@@ -151,28 +177,24 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
                 }
                 continue;
             }
-            // Pairwise (near): each member pair that carries light (some of its rays open),
-            // read like an element link from the source member: no rays when the link's
-            // shaft proved it visible (it then keeps no candidate list); without rays, the
-            // pair's kernel (its light averaged over the receiver, visibility included).
-            const Members rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
-            const uint32_t j = s.member_position[root] - rm.first;
-            for (uint32_t i = 0; i < sm.count; ++i) {
-                const double kernel = s.cluster_kernel[link.kernel + size_t(i) * rm.count + j];
-                if (!(kernel > 0.0)) continue;
-                const uint32_t member = s.cluster_members[sm.first + i];
-                if (!s.rays || link.candidates == kNoList) {
-                    g.use_rays = false;
-                    g.visit(member);
-                } else {
-                    defer(member, DVec3(kernel), false, 0.0f);
-                }
-            }
         }
     };
     visit(root);
     for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent) visit(c | kClusterNode);
+    // Pairwise (near): each member pair that carries light (some of its rays open), read
+    // like an element link from the source member: no rays when the link's shaft proved it
+    // visible (it then keeps no candidate list); without rays, the pair's kernel (its light
+    // averaged over the receiver, visibility included).
+    forClusterPairs(root, [&](uint32_t member, double kernel, const ClusterLink& link) {
+        if (!s.rays || link.candidates == kNoList) {
+            g.use_rays = false;
+            g.visit(member);
+        } else {
+            defer(member, DVec3(kernel), false, 0.0f);
+        }
+    });
 }
+
 
 uint32_t LinkReconstruction::leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const {
     const Solution& s = s_;
@@ -228,6 +250,11 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
             // A source polygon can touch the point only if it comes within lift of it.
             if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(source.root);
         }
+    // And the members of pairwise cluster links (a neighbouring tile of a tessellated wall).
+    forClusterPairs(root, [&](uint32_t member, double, const ClusterLink&) {
+        const Element& source = s.elements[member];
+        if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(member);
+    });
     const DVec3 point = p_world + lift * direction;
     gather::Gatherer g{.s = s,
                        .point = point,
@@ -241,19 +268,32 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     std::vector<PendingSource> pending;
     DVec3 separable(0.0);
     gatherLinks(leaf, g, pending, separable);
-    // Rays only where they can matter: a source that could bring more than kRayShare of the
-    // point's light gets its visibility from rays at the point; the others keep the
-    // solver's (over the receiver), an error of at most their own small share.
+    // Rays only where they can matter: sources by decreasing unoccluded light get their
+    // visibility from rays at the point until what is left could bring at most kRayShare of
+    // the point's light; those keep the solver's visibility (over the receiver). The bound
+    // is on their sum: under a block on a floor, many small partly visible links each
+    // below the share add up to a leak.
     DVec3 estimate = g.sum + separable;
-    for (const PendingSource& p : pending) estimate += p.fallback;
-    const double total = maxChannel(estimate);
+    double pending_light = 0.0;
     for (const PendingSource& p : pending) {
-        if (p.light > kRayShare * total) {
+        estimate += p.fallback;
+        pending_light += p.light;
+    }
+    const double total = maxChannel(estimate);
+    std::vector<uint32_t> order(pending.size());
+    for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return pending[a].light != pending[b].light ? pending[a].light > pending[b].light : a < b;
+    });
+    for (const uint32_t k : order) {
+        const PendingSource& p = pending[k];
+        if (pending_light > kRayShare * total) {
             g.use_rays = true;
             g.visit(p.source);
         } else {
             g.sum += p.fallback;
         }
+        pending_light -= p.light;
     }
     DVec3 h = g.sum + separable;
     if (s.scene && !s.scene->lights.empty())

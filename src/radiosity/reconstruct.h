@@ -60,6 +60,10 @@ private:
         double light;     // f B (max channel), unoccluded
         DVec3 fallback;   // its light without rays
     };
+    // f(source member, kernel, link) for every member pair of a pairwise cluster link that
+    // reaches `root` and carries light, in a fixed order.
+    template <class F>
+    void forClusterPairs(uint32_t root, F&& f) const;
     void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
                      DVec3& separable) const;
 
