@@ -137,14 +137,15 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
                                      DVec3& separable) const {
     const Solution& s = s_;
     // A source whose visibility from the point is not known: its unoccluded light f B is
-    // what decides whether rays are worth casting; `fallback` is its light without them.
-    const auto defer = [&](uint32_t source_index, const DVec3& fallback_per_b, bool use_link_visibility, float v) {
+    // what decides whether rays are worth casting. Without them it brings f V B (V: its
+    // link's visibility), or for a cluster pair kernel B (the pair's light over the receiver).
+    const auto defer = [&](uint32_t source_index, double visibility, double kernel) {
         const Element& source = s.elements[source_index];
         if (!(maxChannel(source.radiosity) > 0.0)) return;
         const double f = piecePointFormFactor(g.point, g.normal, polygonOf(s, source).vertices, source.normal);
         if (g.counters) ++g.counters->form_factors;
         if (!(f > 0.0)) return;
-        const DVec3 fallback = use_link_visibility ? f * double(v) * source.radiosity : fallback_per_b * source.radiosity;
+        const DVec3 fallback = (kernel > 0.0 ? kernel : f * visibility) * source.radiosity;
         pending.push_back({source_index, f * maxChannel(source.radiosity), fallback});
     };
     for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
@@ -155,7 +156,7 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
                 g.use_rays = false;
                 g.visit(link.source);
             } else {
-                defer(link.source, DVec3(0.0), true, link.visibility);
+                defer(link.source, link.visibility, 0.0);
             }
         }
     if (cluster_begin_.empty()) return;
@@ -164,18 +165,15 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
         const size_t key = keyOf(s, node);
         for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
             const ClusterLink& link = s.cluster_links[l];
-            if (!(link.visibility > 0.0f)) continue;
-            if (link.kernel == kNoKernel) {
-                // Separable (far, wholly visible): the solve's product form, its receiver
-                // cosine taken at the point.
-                const DVec3 c_s = centroidOf(s, link.source), c_r = centroidOf(s, link.receiver);
-                const DVec3 u = c_s - g.point;
-                const double d2 = glm::dot(u, u), cos_d = glm::dot(g.normal, u);
-                if (cos_d > 0.0 && d2 > 0.0) {
-                    const DVec3 w = c_s - c_r;
-                    separable += cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2) * separable_flux_[l];
-                }
-                continue;
+            if (!(link.visibility > 0.0f) || link.kernel != kNoKernel) continue;
+            // Separable (far, wholly visible): the solve's product form, its receiver cosine
+            // taken at the point.
+            const DVec3 c_s = centroidOf(s, link.source), c_r = centroidOf(s, link.receiver);
+            const DVec3 u = c_s - g.point;
+            const double d2 = glm::dot(u, u), cos_d = glm::dot(g.normal, u);
+            if (cos_d > 0.0 && d2 > 0.0) {
+                const DVec3 w = c_s - c_r;
+                separable += cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2) * separable_flux_[l];
             }
         }
     };
@@ -190,11 +188,10 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
             g.use_rays = false;
             g.visit(member);
         } else {
-            defer(member, DVec3(kernel), false, 0.0f);
+            defer(member, 0.0, kernel);
         }
     });
 }
-
 
 uint32_t LinkReconstruction::leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const {
     const Solution& s = s_;
