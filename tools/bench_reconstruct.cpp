@@ -4,7 +4,9 @@
 // per channel |fast - exhaustive| / max(exhaustive, 1 % of the brightest), RMS and worst
 // over covered texels (vertices).
 //   bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] [--threads 0]
-//                     [--skip-exhaustive-texels]
+//                     [--skip-exhaustive-texels | --skip-exhaustive | --vertices-only] [--worst]
+// --skip-exhaustive: no exhaustive reference at all (timings only); --vertices-only: the
+// vertices, timed, no reference; --worst lists what is more than 30 % off (1 % floor).
 // Texels: "links all" evaluates every covered texel with the reconstruction, "links
 // adaptive" with the quality's --texel-tolerance as bakes do; both against every texel
 // evaluated exhaustively (the --texel-tolerance 0 bake).
@@ -23,6 +25,8 @@
 using namespace radbake;
 
 namespace {
+
+bool g_list_worst = false;  // --worst: list the vertices and texels more than 30 % off
 
 // CPU seconds of the whole process (every thread): less disturbed than wall time when other
 // work shares the cores.
@@ -70,7 +74,7 @@ Error compareTexels(const Lightmaps& fast, const Lightmaps& ref) {
     for (size_t k = 0; k < ref.images.size(); ++k)
         for (size_t t = 0; t < ref.images[k].state.size(); ++t)
             if (ref.images[k].state[t] == TexelState::Covered) covered.emplace_back(k, t);
-    if (std::getenv("RB_WORST")) {
+    if (g_list_worst) {
         double brightest = 0.0;
         for (const auto& [k, t] : covered) brightest = std::max(brightest, double(ref.images[k].rgb[3 * t]));
         for (const auto& [k, t] : covered) {
@@ -101,6 +105,10 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') path = argv[first++];
     for (int i = first; i < argc; ++i) {
         const std::string key = argv[i];
+        if (key == "--worst") {
+            g_list_worst = true;
+            continue;
+        }
         if (key == "--skip-exhaustive-texels" || key == "--skip-exhaustive" || key == "--vertices-only") {
             exhaustive_texels = false;
             exhaustive_vertices = key == "--skip-exhaustive-texels";
@@ -109,7 +117,8 @@ int main(int argc, char** argv) {
         }
         if (i + 1 >= argc) {
             std::fprintf(stderr, "usage: bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] "
-                                 "[--threads 0] [--skip-exhaustive-texels]\n");
+                                 "[--threads 0] [--skip-exhaustive-texels|--skip-exhaustive|--vertices-only] "
+                                 "[--worst]\n");
             return 2;
         }
         const std::string value = argv[++i];
@@ -192,7 +201,7 @@ int main(int argc, char** argv) {
         b = DVec3(v_ref.values[vertices[i].first][vertices[i].second]);
         return true;
     });
-    if (std::getenv("RB_WORST"))
+    if (g_list_worst)
         for (const auto& [m, v] : vertices) {
             const double a = v_links.values[m][v].x, b = v_ref.values[m][v].x;
             if (std::abs(a - b) > 0.3 * std::max(b, 0.01))
