@@ -43,7 +43,7 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
 
 // 4. H / pi at every vertex of every mesh.
 VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner,
-                        Progress* progress /* = nullptr */);
+                        Progress* progress /* = nullptr */, GatherMode mode /* = GatherMode::Links */);
 
 // 5. Lightmaps: charts (within the texel budget, before the solve), then packing, texels,
 //    dilation and seams.

@@ -82,7 +82,7 @@ void evaluateBatch(State& s, std::vector<size_t>& batch, ParallelRunner& runner)
                                              [](size_t v, const ChartSpan& span) { return v < span.offset; });
             const LightmapChart& chart = s.layout.charts[static_cast<size_t>(it - s.spans.begin()) - 1];
             const ChartFace& face = chart.faces[s.sites[t].face];
-            s.values[t] = s.irradiance(face.worldPoint(s.sites[t].p_plane), face.normal_world) / kPi;
+            s.values[t] = s.irradiance({face.worldPoint(s.sites[t].p_plane), face.normal_world, chart.mesh, face.triangle}) / kPi;
             s.fill[t] = kEvaluated;
         }
         s.settled += end - begin;

@@ -2,9 +2,11 @@
 #include "bake/lightmap_bake.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_seams.h"
+#include "radiosity/reconstruct.h"
 #include "radiosity/solution.h"
 
 namespace radbake {
@@ -138,8 +140,12 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts 
     const LightmapOptions& options = charts.options;
     LightmapLayout layout;
     if (!packLightmapCharts(std::move(charts.charts), options, layout, diagnostics)) return false;
-    const IrradianceFunction irradiance = [&solution](const DVec3& p, const DVec3& n) {
-        return probeIrradiance(solution, p, n);
+    // --texel-tolerance 0 is the exhaustive reference: every texel a full gather.
+    std::optional<LinkReconstruction> links;
+    if (options.texel_tolerance > 0.0) links.emplace(solution, runner);
+    const IrradianceFunction irradiance = [&](const SurfacePoint& at) {
+        return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world)
+                     : probeIrradiance(solution, at.p_world, at.normal_world);
     };
     lightmaps =
         evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance, progress);

@@ -47,8 +47,16 @@ struct Lightmaps {
     StitchStats stitch;
 };
 
-// Irradiance H (W/m^2) at a point on a surface facing `normal`; probeIrradiance in a bake.
-using IrradianceFunction = std::function<DVec3(const DVec3& p_world, const DVec3& normal_world)>;
+// A point on one of the scene's triangles, seen from the side its normal faces.
+struct SurfacePoint {
+    DVec3 p_world{0.0};
+    DVec3 normal_world{0.0, 0.0, 1.0};  // unit, the triangle's
+    uint32_t mesh = 0, triangle = 0;    // Scene::meshes[mesh].triangles[triangle]
+};
+
+// Irradiance H (W/m^2) at a surface point; in a bake, LinkReconstruction (probeIrradiance
+// for the exhaustive reference).
+using IrradianceFunction = std::function<DVec3(const SurfacePoint& at)>;
 
 // Where a texel is evaluated: the centroid of the largest piece of the chart's faces inside
 // the texel square (a convex piece of one triangle, so the point lies on the surface, never

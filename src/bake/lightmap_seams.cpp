@@ -73,6 +73,8 @@ EdgeSample edgeSample(const LightmapChart& chart, const BoundaryEdge& edge, doub
     s.texel = chart.atlasTexel(edge.p + (edge.q - edge.p) * t);
     s.p_world = edge.p_world + (edge.q_world - edge.p_world) * t;
     s.normal_world = chart.faces[edge.face].normal_world;
+    s.mesh = chart.mesh;
+    s.triangle = chart.faces[edge.face].triangle;
     return s;
 }
 
@@ -377,7 +379,7 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
     const auto evaluate = [&](const std::vector<const EdgeSample*>& points, std::vector<DVec3>& out) {
         out.resize(points.size());
         runner.forRanges(points.size(), 16, [&](size_t begin, size_t end) {
-            for (size_t q = begin; q < end; ++q) out[q] = irradiance(points[q]->p_world, points[q]->normal_world) / kPi;
+            for (size_t q = begin; q < end; ++q) out[q] = irradiance({points[q]->p_world, points[q]->normal_world, points[q]->mesh, points[q]->triangle}) / kPi;
         });
     };
     std::vector<DVec3> distinct_light;

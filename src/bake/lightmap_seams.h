@@ -23,6 +23,7 @@ struct EdgeSample {
     DVec2 texel{0.0};         // continuous atlas texel coordinates (texel centres at +0.5)
     DVec3 p_world{0.0};       // on the chart face's own triangle
     DVec3 normal_world{0.0};  // that face's normal
+    uint32_t mesh = 0, triangle = 0;  // that face's source triangle (Scene::meshes[mesh].triangles)
     // For a boundary point at the end of a seam (a chart corner on the seam): the seam sample
     // there, whose light (the mean over the faces meeting) it takes; -1 otherwise.
     int64_t seam = -1;

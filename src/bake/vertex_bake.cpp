@@ -1,12 +1,14 @@
-// Per-vertex bake: the solution gathered at each original vertex, so values are smooth and
+// Per-vertex bake: the solution read at each original vertex, so values are smooth and
 // independent of the element quadtree.
 #include "bake/vertex_bake.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <map>
+#include <optional>
 
-
+#include "radiosity/reconstruct.h"
 #include "radiosity/solution.h"
 #include "scene/scene.h"
 
@@ -19,10 +21,11 @@ constexpr double kSameNormal = 1e-6;
 struct Incident {
     DVec3 normal;
     double weight;
+    uint32_t mesh, triangle;
 };
 
-// The vertex's incident faces grouped by normal: one H per group, averaged by area.
-DVec3 bakeVertex(const Solution& solution, const DVec3& p, const std::vector<Incident>& faces) {
+// Faces grouped by normal, in first-seen order: one H per group.
+std::vector<Incident> groupByNormal(const std::vector<Incident>& faces) {
     std::vector<Incident> groups;
     for (const Incident& f : faces) {
         auto it = std::find_if(groups.begin(), groups.end(),
@@ -30,45 +33,88 @@ DVec3 bakeVertex(const Solution& solution, const DVec3& p, const std::vector<Inc
         if (it == groups.end()) groups.push_back(f);
         else it->weight += f.weight;
     }
-    DVec3 sum(0.0);
-    double weight = 0.0;
-    for (const Incident& g : groups) {
-        sum += g.weight * probeIrradiance(solution, p, g.normal);
-        weight += g.weight;
-    }
-    return weight > 0.0 ? sum / weight : DVec3(0.0);
+    return groups;
 }
+
+// One point of the scene where vertices of any mesh coincide: H per normal group of every
+// face around it, each evaluated once on the group's first face, so coincident vertices of
+// neighbouring meshes (duplicated at a material boundary) get the same light.
+struct WeldedPoint {
+    DVec3 p;
+    std::vector<Incident> faces;   // of every vertex there
+    std::vector<Incident> groups;  // faces grouped by normal
+    std::vector<DVec3> h;          // per group
+};
 
 }  // namespace
 
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner, Progress* progress) {
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner, Progress* progress,
+                        GatherMode mode) {
     VertexBake bake;
     bake.values.resize(scene.meshes.size());
-    size_t total = 0;
-    for (const Mesh& mesh : scene.meshes) total += mesh.positions.size();
-    std::atomic<size_t> done{0};
+    // Incident faces of every vertex, and the welded point each vertex is at.
+    std::vector<std::vector<std::vector<Incident>>> incident(scene.meshes.size());
+    std::vector<std::vector<uint32_t>> point_of(scene.meshes.size());
+    std::map<std::array<float, 3>, uint32_t> point_ids;
+    std::vector<WeldedPoint> points;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
-        std::vector<std::vector<Incident>> incident(mesh.positions.size());
-        for (const UVec3& t : mesh.triangles) {
-            if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() || t.z >= mesh.positions.size()) continue;
-            const DVec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
+        incident[m].resize(mesh.positions.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const UVec3& tri = mesh.triangles[t];
+            if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() || tri.z >= mesh.positions.size())
+                continue;
+            const DVec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
             const DVec3 n = glm::cross(b - a, c - a);
             const double len = glm::length(n);
             if (!(len > 0.0)) continue;
-            for (uint32_t v : {t.x, t.y, t.z}) incident[v].push_back({n / len, 0.5 * len});
+            for (uint32_t v : {tri.x, tri.y, tri.z})
+                incident[m][v].push_back({n / len, 0.5 * len, static_cast<uint32_t>(m), static_cast<uint32_t>(t)});
         }
+        point_of[m].assign(mesh.positions.size(), kNoElement);
+        for (size_t v = 0; v < mesh.positions.size(); ++v) {
+            if (incident[m][v].empty()) continue;
+            const Vec3& p = mesh.positions[v];
+            const auto [it, added] = point_ids.emplace(std::array<float, 3>{p.x, p.y, p.z}, uint32_t(points.size()));
+            if (added) points.push_back({DVec3(p), {}, {}, {}});
+            WeldedPoint& point = points[it->second];
+            point.faces.insert(point.faces.end(), incident[m][v].begin(), incident[m][v].end());
+            point_of[m][v] = it->second;
+        }
+    }
+    std::optional<LinkReconstruction> links;
+    if (mode == GatherMode::Links) links.emplace(solution, runner);
+    std::atomic<size_t> done{0};
+    // Each welded point writes its own slot: the result does not depend on the thread count.
+    runner.forRanges(points.size(), 16, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            WeldedPoint& point = points[k];
+            point.groups = groupByNormal(point.faces);
+            for (const Incident& g : point.groups)
+                point.h.push_back(links ? links->irradiance(g.mesh, g.triangle, point.p, g.normal)
+                                        : probeIrradiance(solution, point.p, g.normal));
+        }
+        if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
+    });
+    if (runner.cancelled()) return bake;
+    // A vertex: its own faces' normal groups, area-weighted, each read from its welded group.
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
         std::vector<Vec3>& values = bake.values[m];
-        values.assign(mesh.positions.size(), Vec3(0.0f));
-        // Each vertex writes its own slot: the result does not depend on the thread count.
-        runner.forRanges(mesh.positions.size(), 16, [&](size_t begin, size_t end) {
-            for (size_t v = begin; v < end; ++v) {
-                if (incident[v].empty()) continue;
-                const DVec3 h = bakeVertex(solution, DVec3(mesh.positions[v]), incident[v]);
-                values[v] = Vec3(h / kPi);
+        values.assign(scene.meshes[m].positions.size(), Vec3(0.0f));
+        for (size_t v = 0; v < values.size(); ++v) {
+            if (point_of[m][v] == kNoElement) continue;
+            const WeldedPoint& point = points[point_of[m][v]];
+            DVec3 sum(0.0);
+            double weight = 0.0;
+            for (const Incident& own : groupByNormal(incident[m][v])) {
+                size_t g = 0;
+                while (g + 1 < point.groups.size() && !(glm::dot(point.groups[g].normal, own.normal) > 1.0 - kSameNormal))
+                    ++g;
+                sum += own.weight * point.h[g];
+                weight += own.weight;
             }
-            if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(total));
-        });
+            if (weight > 0.0) values[v] = Vec3(sum / weight / kPi);
+        }
     }
     return bake;
 }

@@ -5,6 +5,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "radiosity/reconstruct.h"
 
 namespace radbake {
 
@@ -19,8 +20,10 @@ struct VertexBake {
 
 // On the runner's threads; each vertex writes its own slot, so the values do not depend on
 // the thread count. A cancelled runner leaves vertices unevaluated (discard the bake).
-// `progress`, when given, moves with the vertices done.
+// `progress`, when given, moves with the vertices done. Vertices of any meshes at one
+// position (bit for bit) share their light per face normal. `mode`: the link
+// reconstruction, or the exhaustive gather (the reference, for --texel-tolerance 0).
 VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner,
-                        Progress* progress = nullptr);
+                        Progress* progress = nullptr, GatherMode mode = GatherMode::Links);
 
 }  // namespace radbake

@@ -30,6 +30,7 @@ struct BakeArgs {
     std::string probes;
     std::string lightmap_scales;
     std::string depfile;
+    std::string solution_file;
     ImportOptions import;
     bool quiet = false;
     bool preview = false;
@@ -92,6 +93,7 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     options.import = args.import;
     options.preview = args.preview;
     options.export_lights = args.export_lights;
+    options.solution_file = args.solution_file;
     // A program that owns its process pins its workers (unpinned ones were seen sharing one
     // core on the 2-core build machines); the library does not unless asked.
     options.threading = Threading{args.threads, !args.no_pin_threads};
@@ -239,6 +241,9 @@ void addBakeCommand(CLI::App& app, int& result) {
     cmd->add_flag("--no-clustering", args->no_clustering,
                   "Link every facing pair of polygons instead of starting links between clusters of them "
                   "(quadratic in the polygon count: for comparisons)");
+    cmd->add_option("--solution", args->solution_file,
+                    "Reuse the radiosity solution saved in this file when the scene and solver settings are the "
+                    "same (iterating on lightmap, vertex or probe settings), else solve and save it there");
     cmd->add_flag("--no-lightmaps", args->no_lightmaps, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
     cmd->add_option("--texel-density", args->lightmaps.texels_per_unit, "Lightmap texels per scene unit")
         ->check(CLI::PositiveNumber)

@@ -11,6 +11,7 @@
 #include "export/hash.h"
 #include "geometry/parts.h"
 #include "io/import.h"
+#include "pipeline/solution_cache.h"
 #include "radiosity/solver.h"
 
 namespace radbake {
@@ -156,21 +157,35 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         options.lightmaps.texels_per_unit = charts->options.texels_per_metre * metres_per_unit;
     }
 
-    progress.beginPhase("parts");
-    const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
-    if (stopped()) return;
-    progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
-    out.solution = solveRadiosity(scene, parts, options.solver, runner, progress, diagnostics);
-    if (stopped()) return;
+    std::string solution_key;
+    if (!options.solution_file.empty()) {
+        progress.beginPhase("saved solution");
+        solution_key = solutionKey(scene, options.solver);
+        out.solution = loadSolution(scene, options.solver, solution_key, options.solution_file, runner.threads(),
+                                    diagnostics);
+        if (stopped()) return;
+    }
     if (!out.solution) {
-        out.status = BakeStatus::InputError;
-        return;
+        progress.beginPhase("parts");
+        const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
+        if (stopped()) return;
+        progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
+        out.solution = solveRadiosity(scene, parts, options.solver, runner, progress, diagnostics);
+        if (stopped()) return;
+        if (!out.solution) {
+            out.status = BakeStatus::InputError;
+            return;
+        }
+        if (!options.solution_file.empty())
+            saveSolution(*out.solution, solution_key, options.solution_file, diagnostics);
     }
     out.report.options = options.solver;
     out.report.solve = out.solution->stats;
 
     progress.beginPhase("vertices");
-    out.vertices = bakeVertices(scene, *out.solution, runner, &progress);
+    // --texel-tolerance 0 (the reference preset) reads every vertex with the exhaustive gather too.
+    const GatherMode gather = options.lightmaps.texel_tolerance > 0.0 ? GatherMode::Links : GatherMode::Exhaustive;
+    out.vertices = bakeVertices(scene, *out.solution, runner, &progress, gather);
     if (stopped()) return;
 
     if (charts) {

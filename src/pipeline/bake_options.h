@@ -41,6 +41,9 @@ struct BakeOptions {
     // --export-lights: the glb also holds the scene's lights (KHR_lights_punctual), marked as
     // baked. Off by default: their light is baked already, an engine would add it again.
     bool export_lights = false;
+    // --solution FILE: reuse the radiosity solution saved there when the scene and solver
+    // settings match (pipeline/solution_cache.h), else solve and save it there; empty: neither.
+    std::string solution_file;
     Threading threading;               // every phase's threads (0: all cores; not pinned)
 
     // Every preset of `quality`: the solver's knobs and the texel tolerance.

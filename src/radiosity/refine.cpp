@@ -372,6 +372,7 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
                 if (rays_mode) {
                     final_link.visibility = static_cast<float>(ev.visibility);
                     final_link.form_factor *= ev.visibility;
+                    final_link.by_rays = true;
                 } else if (partial) {
                     needs_rays.push_back(s.links.size());
                 }
@@ -398,6 +399,7 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
         Link& link = s.links[needs_rays[k]];
         link.visibility = static_cast<float>(visibility[k]);
         link.form_factor *= visibility[k];
+        link.by_rays = true;
         s.stats.rays += rays[k];
     }
 }

@@ -54,6 +54,9 @@ struct Link {
     uint32_t source = 0;
     double form_factor = 0.0;
     float visibility = 1.0f;
+    // The visibility was sampled by rays (a shadow edge may pass between them), not proven
+    // by the shaft: the reconstruction (reconstruct.h) casts its own rays for it.
+    bool by_rays = false;
 };
 
 // Clustering (cluster.h): a binary tree of boxes over the root elements. Links that start

@@ -57,7 +57,7 @@ TEST_CASE("tolerance 0 gives the exhaustive texels bit for bit") {
     // A triangle (partly covered texels along the hypotenuse) and a wall, a curved field.
     const Scene scene = sceneOf({lightmap_test::polygonMesh({{0, 0, 0}, {0, 0, 2}, {3, 0, 0}}),
                                  lightmap_test::polygonMesh({{0, 0, 0}, {0, 2, 0}, {0, 2, 2}, {0, 0, 2}})});
-    const IrradianceFunction field = [](const DVec3& p, const DVec3& n) {
+    const IrradianceFunction field = [](const SurfacePoint& at) { const DVec3& p = at.p_world; const DVec3& n = at.normal_world; 
         return kPi * DVec3(1.0 + std::sin(3.0 * p.x) * p.z, 0.5 + n.x, std::exp(-p.y));
     };
     const LightmapLayout layout = layoutOf(scene, 10.0);
@@ -78,7 +78,8 @@ TEST_CASE("tolerance 0 gives the exhaustive texels bit for bit") {
                     continue;
                 }
                 ++covered;
-                const DVec3 value = field(chart.faces[f].worldPoint(p), chart.faces[f].normal_world) / kPi;
+                const DVec3 value =
+                    field({chart.faces[f].worldPoint(p), chart.faces[f].normal_world, chart.mesh, chart.faces[f].triangle}) / kPi;
                 REQUIRE(image.state[at] == TexelState::Covered);
                 for (int c = 0; c < 3; ++c) CHECK(image.rgb[3 * at + c] == static_cast<float>(value[c]));
             }
@@ -94,7 +95,7 @@ TEST_CASE("smooth fields are interpolated within the tolerance from far fewer ev
     const double tolerance = 0.01;
     SUBCASE("linear ramp") {
         // H / pi = 1 + 0.01 x + 0.005 z: corners of an 8-texel block differ by under 1%.
-        const IrradianceFunction ramp = [](const DVec3& p, const DVec3&) {
+        const IrradianceFunction ramp = [](const SurfacePoint& at) { const DVec3& p = at.p_world; 
             return kPi * DVec3(1.0 + 0.01 * p.x + 0.005 * p.z, 2.0 - 0.01 * p.z, 0.5);
         };
         const Lightmaps exhaustive = bakeWith(layout, ramp, 0.0), adaptive = bakeWith(layout, ramp, tolerance);
@@ -111,7 +112,7 @@ TEST_CASE("smooth fields are interpolated within the tolerance from far fewer ev
         CHECK(adaptive.interpolated_texels > 64 * 64 / 2);
     }
     SUBCASE("quadratic bowl") {
-        const IrradianceFunction bowl = [](const DVec3& p, const DVec3&) {
+        const IrradianceFunction bowl = [](const SurfacePoint& at) { const DVec3& p = at.p_world; 
             const double r2 = (p.x - 2.0) * (p.x - 2.0) + (p.z - 1.5) * (p.z - 1.5);
             return kPi * DVec3(1.0 + 0.02 * r2, 1.0, 1.0 + 0.01 * p.x * p.z);
         };
@@ -126,7 +127,7 @@ TEST_CASE("a sharp shadow edge is resolved texel by texel") {
     const LightmapLayout layout = layoutOf(floorScene(), 16.0);
     const double tolerance = 0.01;
     // Lit 1 on one side of a slanted line, 0.1 in its shadow: off the texel grid.
-    const IrradianceFunction shadow = [](const DVec3& p, const DVec3&) {
+    const IrradianceFunction shadow = [](const SurfacePoint& at) { const DVec3& p = at.p_world; 
         return kPi * DVec3(p.x + 0.37 * p.z < 2.13 ? 1.0 : 0.1);
     };
     const Lightmaps exhaustive = bakeWith(layout, shadow, 0.0), adaptive = bakeWith(layout, shadow, tolerance);
@@ -154,7 +155,7 @@ TEST_CASE("partly covered texels are always evaluated, whatever the field") {
     REQUIRE(layout.charts.size() == 1);
     std::set<std::array<double, 3>> evaluated;
     std::mutex mutex;
-    const IrradianceFunction constant = [&](const DVec3& p, const DVec3&) {
+    const IrradianceFunction constant = [&](const SurfacePoint& at) { const DVec3& p = at.p_world; 
         const std::lock_guard<std::mutex> lock(mutex);
         evaluated.insert({p.x, p.y, p.z});
         return DVec3(kPi);
@@ -179,7 +180,7 @@ TEST_CASE("partly covered texels are always evaluated, whatever the field") {
 
 TEST_CASE("adaptive texels do not depend on the thread count") {
     const LightmapLayout layout = layoutOf(floorScene(), 16.0);
-    const IrradianceFunction field = [](const DVec3& p, const DVec3&) {
+    const IrradianceFunction field = [](const SurfacePoint& at) { const DVec3& p = at.p_world; 
         return kPi * DVec3(1.0 + 0.2 * std::sin(p.x) * std::cos(p.z), p.x < 1.7 ? 1.0 : 0.3, 0.5);
     };
     const Lightmaps one = bakeWith(layout, field, 0.02, 1), two = bakeWith(layout, field, 0.02, 2);
@@ -201,7 +202,7 @@ TEST_CASE("a smooth edge inside a chart is resolved like a shadow edge") {
     const LightmapLayout layout = layoutOf(sceneOf({mesh}), 16.0);
     REQUIRE(layout.charts.size() == 1);
     // Light that depends on the facing only: a step across the hinge, constant on each panel.
-    const IrradianceFunction facing = [](const DVec3&, const DVec3& n) { return kPi * DVec3(1.0 + 2.0 * n.x * n.x); };
+    const IrradianceFunction facing = [](const SurfacePoint& at) { const DVec3& n = at.normal_world;  return kPi * DVec3(1.0 + 2.0 * n.x * n.x); };
     const double tolerance = 0.01;
     const Lightmaps exhaustive = bakeWith(layout, facing, 0.0), adaptive = bakeWith(layout, facing, tolerance);
     // Each texel holds its own panel's value (the one under its sample point), never a blend.

@@ -23,7 +23,7 @@ Lightmaps bake(const Scene& scene, const LightmapOptions& options, const Irradia
 }
 
 // H / pi = 1 + x + 2 z: a plane of light over the floor.
-DVec3 linearField(const DVec3& p, const DVec3&) { return kPi * DVec3(1.0 + p.x + 2.0 * p.z, 1.0, 0.5); }
+DVec3 linearField(const SurfacePoint& at) { return kPi * DVec3(1.0 + at.p_world.x + 2.0 * at.p_world.z, 1.0, 0.5); }
 
 bool insideTriangle(const DVec2& p, const std::vector<DVec2>& t) {
     for (int k = 0; k < 3; ++k) {
@@ -102,7 +102,7 @@ TEST_CASE("dilation fills every padding texel from its own chart only") {
     options.texels_per_metre = 6.0;
     options.padding = 3;
     const Lightmaps lightmaps =
-        bake(scene, options, [](const DVec3&, const DVec3& n) { return DVec3(kPi * (n.y > 0 ? 1.0 : 5.0)); });
+        bake(scene, options, [](const SurfacePoint& at) { const DVec3& n = at.normal_world;  return DVec3(kPi * (n.y > 0 ? 1.0 : 5.0)); });
     REQUIRE(lightmaps.layout.charts.size() == 2);
     REQUIRE(lightmaps.images.size() == 1);
     const LightmapImage& image = lightmaps.images[0];

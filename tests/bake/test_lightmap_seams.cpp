@@ -28,9 +28,8 @@ Mesh floorMesh(float size_x, float size_z) {
 
 // H / pi = 1 + 4 x + 3 z + 2 x z: steep, not linear, but linear along every axis-aligned
 // line, so a bilinear lookup along the (axis-aligned) chart edges can reproduce it exactly.
-DVec3 field(const DVec3& p, const DVec3&) {
-    return kPi * DVec3(1.0 + 4.0 * p.x + 3.0 * p.z + 2.0 * p.x * p.z, 2.0, 0.5 + p.z);
-}
+DVec3 fieldAt(const DVec3& p) { return kPi * DVec3(1.0 + 4.0 * p.x + 3.0 * p.z + 2.0 * p.x * p.z, 2.0, 0.5 + p.z); }
+DVec3 field(const SurfacePoint& at) { return fieldAt(at.p_world); }
 
 Lightmaps bakeField(const Scene& scene, const LightmapOptions& options, int threads) {
     LightmapLayout layout;
@@ -98,11 +97,11 @@ TEST_CASE("both pieces of a floor cut by the cap give the same light along the c
         const DVec3 a = bilinearLookup(after.images[0], s.a.texel), b = bilinearLookup(after.images[0], s.b.texel);
         CHECK(relativeGap(a, b) < 1e-3);
         // ... and both give the light at that point, not just any common value.
-        CHECK(relativeGap(a, field(s.a.p_world, DVec3(0, 1, 0)) / kPi) < 1e-3);
+        CHECK(relativeGap(a, fieldAt(s.a.p_world) / kPi) < 1e-3);
     }
     // Lookups along the outline give the light there too.
     for (const EdgeSample& e : edges.edges)
-        CHECK(relativeGap(bilinearLookup(after.images[0], e.texel), field(e.p_world, e.normal_world) / kPi) < 1e-3);
+        CHECK(relativeGap(bilinearLookup(after.images[0], e.texel), fieldAt(e.p_world) / kPi) < 1e-3);
     CHECK(after.stitch.max_edge_after < 1e-3);
 
     // Covered texels away from every edge keep their evaluated value exactly.
@@ -175,8 +174,8 @@ TEST_CASE("edge light is evaluated once per point and interpolated where it is s
         return lightmaps;
     };
     StitchStats flat_stats, step_stats;
-    withField([](const DVec3&, const DVec3&) { return DVec3(2.0 * kPi); }, flat_stats);
-    const Lightmaps stepped = withField([](const DVec3& p, const DVec3&) { return kPi * DVec3(p.x < 1.3 ? 2.0 : 0.5); },
+    withField([](const SurfacePoint&) {  return DVec3(2.0 * kPi); }, flat_stats);
+    const Lightmaps stepped = withField([](const SurfacePoint& at) { const DVec3& p = at.p_world;  return kPi * DVec3(p.x < 1.3 ? 2.0 : 0.5); },
                                         step_stats);
     CHECK(step_stats.evaluations > flat_stats.evaluations);  // the samples around the step are evaluated
     CHECK(flat_stats.evaluations < exact.stitch.evaluations * 3 / 4);
@@ -266,7 +265,7 @@ TEST_CASE("charts of a smooth cylinder meeting at an edge give the same light th
     side.polygon_count = facets;
     const Scene scene = sceneOf({side});
     // Light that depends on the facing (the two faces at a seam see different light) and on height.
-    const IrradianceFunction facing = [](const DVec3& p, const DVec3& n) { return kPi * DVec3(2.0 + n.x + p.y, 2.0 + n.z, 1.0); };
+    const IrradianceFunction facing = [](const SurfacePoint& at) { const DVec3& p = at.p_world; const DVec3& n = at.normal_world;  return kPi * DVec3(2.0 + n.x + p.y, 2.0 + n.z, 1.0); };
     LightmapOptions options;
     options.texels_per_metre = 10.0;
     options.atlas_size = 256;

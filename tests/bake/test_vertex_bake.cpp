@@ -42,7 +42,15 @@ TEST_CASE("coincident vertices of neighbouring faces with the same normal get th
     CHECK(bake.values[0][1] == bake.values[1][0]);
     CHECK(bake.values[0][2] == bake.values[1][3]);
     CHECK(bake.values[0][1].x > 0.0f);
-    // The value is the probe's H / pi at that point and normal.
-    const DVec3 h = probeIrradiance(*solution, {1, 0, 0}, {0, 0, 1});
+    // The value is the link reconstruction's H / pi at that point and normal, on the first
+    // face there (tile 0's), and close to the exhaustive gather's.
+    const LinkReconstruction links(*solution, test::testRunner());
+    const DVec3 h = links.irradiance(0, 0, {1, 0, 0}, {0, 0, 1});
     CHECK(bake.values[0][1].x == doctest::Approx(h.x / kPi).epsilon(1e-6));
+    const DVec3 reference = probeIrradiance(*solution, {1, 0, 0}, {0, 0, 1});
+    CHECK(h.x == doctest::Approx(reference.x).epsilon(0.02));
+    // The reference mode is the exhaustive gather itself.
+    const VertexBake exhaustive = bakeVertices(scene, *solution, test::testRunner(), nullptr, GatherMode::Exhaustive);
+    CHECK(exhaustive.values[0][1].x == doctest::Approx(reference.x / kPi).epsilon(1e-6));
+    CHECK(exhaustive.values[0][1] == exhaustive.values[1][0]);
 }

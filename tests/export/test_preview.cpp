@@ -305,7 +305,7 @@ TEST_CASE("renderBakedView: the lightmap path and the vertex path agree") {
     const Camera camera = cameraAt(Vec3(0.3f, 0.2f, 4), Quat(1, 0, 0, 0), 1.0);
     SUBCASE("uniformly lit quad: equal, pixel for pixel") {
         const Vec3 value(0.2f, 0.4f, 0.6f);
-        const LightmappedQuad quad = lightmappedQuad([&](const DVec3&, const DVec3&) { return kPi * DVec3(value); });
+        const LightmappedQuad quad = lightmappedQuad([&](const SurfacePoint&) {  return kPi * DVec3(value); });
         const VertexBake bake = uniformBake(quad.scene, value);
         Diagnostics diagnostics;
         const RgbImage by_vertex = renderBakedView(quad.scene, bake, nullptr, nullptr, &camera, 48, 40, diagnostics);
@@ -334,7 +334,7 @@ TEST_CASE("renderBakedView: the lightmap path and the vertex path agree") {
         // quad's edge, off by at most the ramp over one texel (1/16 m): 0.25 / 16 = 0.016. A
         // mirrored u or v would be off by up to 0.5 (x) or 0.3 (y).
         const LightmappedQuad quad = lightmappedQuad(
-            [](const DVec3& p, const DVec3&) { return kPi * DVec3(0.5 + 0.25 * p.x, 0.5 + 0.2 * p.y, 0.5); });
+            [](const SurfacePoint& at) { const DVec3& p = at.p_world;  return kPi * DVec3(0.5 + 0.25 * p.x, 0.5 + 0.2 * p.y, 0.5); });
         VertexBake bake;
         bake.values.emplace_back();
         for (const Vec3& p : quad.scene.meshes[0].positions) bake.values[0].push_back(Vec3(0.5f + 0.25f * p.x, 0.5f + 0.2f * p.y, 0.5f));

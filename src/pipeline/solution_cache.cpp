@@ -1,0 +1,190 @@
+// The solution cache (solution_cache.h): a header line, the key, then the solution's arrays
+// as raw records (trivially copyable; their sizes are part of the key).
+#include "pipeline/solution_cache.h"
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <system_error>
+#include <type_traits>
+#include <vector>
+
+#include "export/hash.h"
+#include "pipeline/bake_options.h"
+#include "visibility/ray_caster.h"
+
+namespace radbake {
+namespace {
+
+constexpr char kMagic[] = "radbake solution 1\n";
+
+struct Writer {
+    std::string bytes;
+    template <class T>
+    void value(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+    }
+    template <class T>
+    void array(const std::vector<T>& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        value(static_cast<uint64_t>(v.size()));
+        bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    }
+};
+
+struct Reader {
+    const std::string& bytes;
+    size_t at = 0;
+    bool ok = true;
+    template <class T>
+    void value(T& v) {
+        if (!ok || bytes.size() - at < sizeof v) {
+            ok = false;
+            return;
+        }
+        std::memcpy(&v, bytes.data() + at, sizeof v);
+        at += sizeof v;
+    }
+    template <class T>
+    void array(std::vector<T>& v) {
+        uint64_t n = 0;
+        value(n);
+        if (!ok || n > (bytes.size() - at) / sizeof(T)) {
+            ok = false;
+            return;
+        }
+        v.resize(n);
+        std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
+        at += n * sizeof(T);
+    }
+};
+
+// Every field that changes the solve, one by one (never a struct's padding).
+struct KeyWriter {
+    std::string bytes;
+    template <class T>
+    void add(const T& v) {
+        static_assert(std::is_arithmetic_v<T> || std::is_enum_v<T>);
+        bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+    }
+    void add(const Vec3& v) { add(v.x), add(v.y), add(v.z); }
+    template <class T>
+    void addAll(const std::vector<T>& v) {
+        add(static_cast<uint64_t>(v.size()));
+        for (const T& x : v) add(x);
+    }
+    void add(const UVec3& v) { add(v.x), add(v.y), add(v.z); }
+};
+
+}  // namespace
+
+std::string solutionKey(const Scene& scene, const SolverOptions& o) {
+    KeyWriter k;
+    k.bytes = radbakeGenerator() + "\n";
+    for (const size_t size : {sizeof(Element), sizeof(Link), sizeof(Cluster), sizeof(ClusterLink), sizeof(SolveStats)})
+        k.add(static_cast<uint64_t>(size));
+    k.add(static_cast<uint64_t>(scene.meshes.size()));
+    for (const Mesh& m : scene.meshes) {
+        k.addAll(m.positions);
+        k.addAll(m.triangles);
+        k.addAll(m.triangle_polygon);
+        k.addAll(m.polygon_reflectance);
+        k.addAll(m.polygon_emission);
+        k.add(m.polygon_count), k.add(m.material), k.add(m.solid), k.add(m.convex_solid);
+    }
+    k.add(static_cast<uint64_t>(scene.materials.size()));
+    for (const Material& m : scene.materials) k.add(m.reflectance), k.add(m.emission);
+    k.add(static_cast<uint64_t>(scene.lights.size()));
+    for (const Light& l : scene.lights) {
+        k.add(l.type), k.add(l.position), k.add(l.direction), k.add(l.color), k.add(l.intensity);
+        k.add(l.attenuation), k.add(l.radius), k.add(l.beam_width), k.add(l.cut_off_angle), k.add(l.on);
+    }
+    // Every knob but max_memory_mb (a budget stops a solve, it does not change it).
+    k.add(o.visibility), k.add(o.quality), k.add(o.error_threshold), k.add(o.min_element_area);
+    k.add(o.iteration_tolerance), k.add(o.max_iterations), k.add(o.refine_rounds), k.add(o.quadrature_order);
+    k.add(o.quadrature_near_ratio), k.add(o.quadrature_max_depth), k.add(o.visibility_samples);
+    k.add(o.probe_opening), k.add(o.probe_samples), k.add(o.probe_visibility_ratio), k.add(o.probe_visibility_coarse);
+    k.add(o.area_exponent), k.add(o.clustering), k.add(o.local_error_threshold);
+    return sha256Hex(k.bytes);
+}
+
+bool saveSolution(const Solution& s, const std::string& key, const std::filesystem::path& file,
+                  Diagnostics& diagnostics) {
+    Writer w;
+    w.bytes = std::string(kMagic) + key + "\n";
+    w.array(s.vertices);
+    w.array(s.elements);
+    w.value(s.root_count);
+    w.array(s.links);
+    w.array(s.clusters);
+    w.array(s.cluster_members);
+    w.array(s.member_position);
+    w.array(s.root_leaf_cluster);
+    w.array(s.cluster_links);
+    w.array(s.cluster_kernel);
+    w.value(s.scene_extent);
+    w.value(s.total_area);
+    w.value(s.stats);
+    std::filesystem::path temporary = file;
+    temporary += ".partial";
+    {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        out.write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
+        if (!out.good()) {
+            diagnostics.warning({file.string(), 0, 0}, "could not write the solution cache");
+            std::error_code ec;
+            std::filesystem::remove(temporary, ec);
+            return false;
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(temporary, file, ec);
+    if (ec) {
+        diagnostics.warning({file.string(), 0, 0}, "could not write the solution cache: " + ec.message());
+        std::filesystem::remove(temporary, ec);
+        return false;
+    }
+    return true;
+}
+
+std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
+                                     const std::filesystem::path& file, int threads, Diagnostics& diagnostics) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) return std::nullopt;
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string header = std::string(kMagic) + key + "\n";
+    if (bytes.compare(0, header.size(), header) != 0) {
+        diagnostics.note({file.string(), 0, 0}, "the saved solution is for another scene or other solver settings: solving again");
+        return std::nullopt;
+    }
+    Solution s;
+    Reader r{bytes, header.size()};
+    r.array(s.vertices);
+    r.array(s.elements);
+    r.value(s.root_count);
+    r.array(s.links);
+    r.array(s.clusters);
+    r.array(s.cluster_members);
+    r.array(s.member_position);
+    r.array(s.root_leaf_cluster);
+    r.array(s.cluster_links);
+    r.array(s.cluster_kernel);
+    r.value(s.scene_extent);
+    r.value(s.total_area);
+    r.value(s.stats);
+    if (!r.ok || r.at != bytes.size() || s.root_count > s.elements.size()) {
+        diagnostics.note({file.string(), 0, 0}, "the saved solution is damaged: solving again");
+        return std::nullopt;
+    }
+    s.scene = &scene;
+    s.options = options;
+    if (s.root_count > 0) {
+        s.rays = RayCaster::build(scene, diagnostics, threads);
+        if (!s.rays) return std::nullopt;
+    }
+    return s;
+}
+
+}  // namespace radbake

@@ -1,0 +1,198 @@
+#pragma once
+// The point gather over the element hierarchy (internal to radiosity/): probeIrradiance's
+// exhaustive gather walks it from every root, the link reconstruction (reconstruct.cpp) from
+// the sources of the links that reach the point's element.
+#include <algorithm>
+#include <span>
+#include <vector>
+
+#include "geometry/polygon.h"
+#include "radiosity/elements.h"
+#include "radiosity/evaluate_probe.h"
+#include "radiosity/form_factor.h"
+#include "radiosity/refine.h"
+#include "radiosity/solution.h"
+#include "visibility/ray_caster.h"
+
+namespace radbake {
+namespace gather {
+
+// Ray ends are lifted off their surfaces by this fraction of the scene's extent, so a point
+// on the edge of a wall (a room corner) does not cast along the wall's own plane. Well above
+// float rounding of coordinates (1e-7) and far below any lit feature.
+inline constexpr double kLift = 1e-5;
+
+// Points on the element where visibility is sampled: an n x n grid of cell centres.
+inline void elementPoints(std::span<const DVec3> loop, int n, std::vector<DVec3>& out) {
+    out.clear();
+    if (loop.size() == 4) {
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+                out.push_back((1 - u) * (1 - v) * loop[0] + u * (1 - v) * loop[1] + u * v * loop[2] +
+                              (1 - u) * v * loop[3]);
+            }
+        return;
+    }
+    out = stratifiedPolygonPoints(loop, n);
+}
+
+// A partially visible piece is split at most this many times below a leaf: with the size
+// rule below it only binds for a piece that is very close to the probe.
+inline constexpr int kMaxVisibilitySplits = 10;
+// Below a leaf, pieces with agreeing rays are split for the coarse rule at most this many
+// times: near a vertex in a room corner every neighbouring piece fails the rule, and splitting
+// them all ten levels deep cost ~7 ms per vertex in the Cornell Box.
+inline constexpr int kMaxCoarseSplits = 3;
+// Pieces below a partly visible one keep splitting for this many levels even when their own
+// rays agree, so an edge that slips between the rays of one level is found at the next.
+inline constexpr int kSuspectLevels = 2;
+
+struct Gatherer {
+    const Solution& s;
+    DVec3 point{0.0}, normal{0.0}, origin{0.0};
+    double lift = 0.0;
+    std::vector<DVec3> points{};
+    DVec3 sum{0.0};
+    ProbeCounters* counters = nullptr;
+    // Rays for visibility: the exhaustive gather casts them whenever the solution has a
+    // caster; the link reconstruction only below links that are partly visible.
+    bool use_rays = true;
+    // The coarse rule (probe_visibility_coarse: unanimous rays trusted only on small enough
+    // pieces) guards the exhaustive gather against a sliver of light between its rays. The
+    // link reconstruction turns it off below partly visible links: the solver refined them
+    // until they carry little, and a piece whose rays disagree is still split.
+    bool coarse_rule = true;
+    // Without it, a partly visible piece is opened down to this radius / distance only
+    // (with it: probe_visibility_ratio).
+    double link_visibility_ratio = 0.05;
+    // Pieces below a leaf are split for visibility at most this many times.
+    int max_visibility_splits = kMaxVisibilitySplits;
+
+    // Unblocked fraction of an n x n grid of segments from the probe to the polygon.
+    // Returns the open count in `open` and the ray count in `total`.
+    void castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total) {
+        elementPoints(loop, std::max(2, s.options.probe_samples), points);
+        for (DVec3& q : points) q += lift * loop_normal;
+        open = static_cast<int>(s.rays->countOpenFrom(origin, points));
+        total = static_cast<int>(points.size());
+        if (counters) counters->rays += points.size();
+    }
+
+    // A piece whose rays disagree (a shadow edge crosses it) is opened until its radius is
+    // below probe_visibility_ratio x its distance: a fixed 2x2 grid would give steps of 1/4
+    // of its light, and a penumbra narrower than the grid would be lost altogether.
+    bool fineEnough(const DVec3& centroid, double radius) const {
+        return radius <= (coarse_rule ? s.options.probe_visibility_ratio : link_visibility_ratio) *
+                             glm::length(centroid - point);
+    }
+    // Unanimous rays are trusted only on pieces below probe_visibility_coarse x distance: a
+    // sliver of light between the rays of a larger piece would read as black (a penumbra at 0).
+    bool coarseEnough(const DVec3& centroid, double radius) const {
+        return radius <= s.options.probe_visibility_coarse * glm::length(centroid - point);
+    }
+
+    // Light from the polygon `loop` of radiosity b, split for visibility only (a leaf's
+    // radiosity is uniform over it).
+    // `suspect`: levels a piece is still split below a partial ancestor though its own rays
+    // agree (an edge within a quarter side of a piece's border passes between its rays).
+    void gatherPiece(std::span<const DVec3> loop, const DVec3& loop_normal, const DVec3& b, int splits,
+                     int suspect) {
+        const double f = piecePointFormFactor(point, normal, loop, loop_normal);
+        if (counters) ++counters->form_factors;
+        if (!(f > 0.0)) return;
+        if (!use_rays) {
+            sum += f * b;
+            return;
+        }
+        int open = 0, total = 0;
+        castVisibility(loop, loop_normal, open, total);
+        const bool partial = open > 0 && open < total;
+        if (partial) suspect = kSuspectLevels;
+        // Neither rule can split past these limits: skip the piece's geometry then.
+        const int coarse_splits = coarse_rule ? kMaxCoarseSplits : 0;
+        if (splits < max_visibility_splits && (splits < coarse_splits || suspect > 0)) {
+            // The centroid and radius setElementGeometry would give, without the rest of it.
+            const DVec3 centroid = polygonCentroid(loop);
+            double radius = 0.0;
+            for (const DVec3& p : loop) radius = std::max(radius, glm::length(p - centroid));
+            const bool coarse_split = splits < coarse_splits && !coarseEnough(centroid, radius);
+            if (coarse_split || (suspect > 0 && !fineEnough(centroid, radius))) {
+                if (loop.size() == 4) {
+                    QuadChildren children;
+                    splitQuad(loop, children);
+                    for (size_t c = 0; c < children.count; ++c)
+                        gatherPiece(children.loops[c], loop_normal, b, splits + 1, suspect - 1);
+                } else {
+                    for (const std::vector<DVec3>& child : splitPolygon(loop))
+                        gatherPiece(child, loop_normal, b, splits + 1, suspect - 1);
+                }
+                return;
+            }
+        }
+        if (counters) ++counters->pieces;
+        sum += f * (total > 0 ? static_cast<double>(open) / total : 0.0) * b;
+    }
+
+    void visit(uint32_t index) {
+        const Element& e = s.elements[index];
+        if (!(maxChannel(e.radiosity) > 0.0)) return;  // B >= 0: an inner zero means all zero
+        const PolygonView poly = polygonOf(s, e);
+        const DVec3& p = point;
+        if (!(glm::dot(e.normal, p - poly.vertices[0]) > 0.0)) return;  // behind the element
+        bool above = false;
+        for (const DVec3& v : poly.vertices) above = above || glm::dot(normal, v - p) > 0.0;
+        if (!above) return;  // wholly below the point's horizon
+        const double distance = glm::length(e.centroid - p);
+        const double opening = use_rays && coarse_rule
+                                   ? std::min(s.options.probe_opening, s.options.probe_visibility_coarse)
+                                   : s.options.probe_opening;
+        if (!e.isLeaf() && e.radius > opening * distance) {
+            for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
+            return;
+        }
+        if (e.isLeaf()) {
+            gatherPiece(poly.vertices, e.normal, e.radiosity, 0, 0);
+            return;
+        }
+        const double f = piecePointFormFactor(p, normal, poly.vertices, e.normal);
+        if (counters) ++counters->form_factors;
+        if (!(f > 0.0)) return;
+        if (!use_rays) {
+            sum += f * e.radiosity;
+            return;
+        }
+        int open = 0, total = 0;
+        castVisibility(poly.vertices, e.normal, open, total);
+        if (open > 0 && open < total && !fineEnough(e.centroid, e.radius)) {
+            // Partly hidden: the children carry their own radiosity, so open them.
+            for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
+            return;
+        }
+        if (counters) ++counters->pieces;
+        sum += f * (total > 0 ? static_cast<double>(open) / total : 0.0) * e.radiosity;
+    }
+};
+
+// A point on a surface (a vertex) lies in the planes of the polygons around it, where the
+// point form factor is degenerate (a wall seen edge-on from the edge of the floor gives
+// nothing instead of half the sky). The point is moved a lift off every root polygon it
+// touches, along the sum of their normals: the limit from inside the corner, the same for
+// every face that shares the point.
+inline void addLiftDirection(const Solution& solution, uint32_t root, const DVec3& point, double lift,
+                             DVec3& direction) {
+    const Element& e = solution.elements[root];
+    const PolygonView poly = polygonOf(solution, e);
+    const double height = glm::dot(e.normal, point - poly.vertices[0]);
+    if (height <= -lift || height >= lift) return;
+    if (pointPolygonDistance(point, poly) < lift) direction += e.normal;
+}
+
+inline DVec3 liftOffSurfaces(const Solution& solution, const DVec3& point, double lift) {
+    DVec3 direction(0.0);
+    for (uint32_t r = 0; r < solution.root_count; ++r) addLiftDirection(solution, r, point, lift, direction);
+    return point + lift * direction;
+}
+
+}  // namespace gather
+}  // namespace radbake

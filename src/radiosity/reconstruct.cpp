@@ -1,0 +1,311 @@
+// The link reconstruction (reconstruct.h): what it gathers, and why, is described there.
+#include "radiosity/reconstruct.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "radiosity/cluster.h"
+#include "radiosity/gather.h"
+#include "radiosity/punctual_lights.h"
+
+namespace radbake {
+namespace {
+
+// Where rays go, measured against the exhaustive gather with tools/bench_reconstruct
+// (2 threads, CPU time; RMS of the relative error over covered texels / vertices). Rays for
+// every link not proven visible, pieces split as the exhaustive gather splits them: 580 us a
+// texel of the Cornell Box at 64 texels/m for 1.7 % RMS. Rays for the sources with the most
+// unoccluded light until the rest could bring at most 5 % of the point's light (the
+// solver's visibility for that rest), a partly visible piece opened down to 0.05 radius /
+// distance and split at most once below a leaf: 55 us a texel for 2.2 %; vertices of the
+// tessellated Cornell box 190 us for 8.6 % (the block bottom edges, where the exhaustive
+// gather is itself 30-60 % off a path tracer), house.wrl 130 us. A per-source share of
+// 0.3 % instead of a bound on the rest: 45 us a texel for 1.8 % but 26 % on the
+// tessellated box (light leaking under its blocks through many small links); no rays at
+// all: 10 us a texel for 34 %.
+constexpr double kRayShare = 0.05;
+constexpr double kLinkVisibilityRatio = 0.05;
+constexpr int kLinkVisibilitySplits = 1;
+
+bool isClusterNode(uint32_t node) { return (node & kClusterNode) != 0; }
+
+// Receiver key of a node: roots first, then clusters (the order cluster links are grouped in).
+size_t keyOf(const Solution& s, uint32_t node) {
+    return isClusterNode(node) ? s.root_count + (node & ~kClusterNode) : node;
+}
+
+struct Members {
+    uint32_t first = 0, count = 0;
+};
+Members membersOf(const Solution& s, uint32_t node) {
+    if (isClusterNode(node)) {
+        const Cluster& c = s.clusters[node & ~kClusterNode];
+        return {c.first_member, c.member_count};
+    }
+    return {s.member_position[node], 1};
+}
+
+DVec3 centroidOf(const Solution& s, uint32_t node) {
+    return isClusterNode(node) ? s.clusters[node & ~kClusterNode].centroid : s.elements[node].centroid;
+}
+
+// cluster.cpp's separable source weight: A_i cos_i / (pi d^3) towards c_r (keep in step).
+double sourceWeight(const Element& i, const DVec3& c_r) {
+    const DVec3 u = c_r - i.centroid;
+    const double d2 = glm::dot(u, u);
+    const double cos_d = glm::dot(i.normal, u);
+    if (!(cos_d > 0.0) || !(d2 > 0.0)) return 0.0;
+    return i.area * cos_d / (kPi * d2 * std::sqrt(d2));
+}
+
+// The polygon among `candidates` that holds p: the first within a rounding tolerance of it
+// (1e-6 of its size: a point on the edge two children share, a chart edge's sample, goes to
+// the first whatever the scene's scale), else the nearest.
+template <class Range>
+uint32_t nearest(const Solution& s, const Range& candidates, const DVec3& p) {
+    uint32_t best = kNoElement;
+    double best_distance = 0.0;
+    for (uint32_t e : candidates) {
+        const double d = pointPolygonDistance(p, polygonOf(s, s.elements[e]));
+        if (d <= 1e-6 * s.elements[e].radius) return e;
+        if (best == kNoElement || d < best_distance) {
+            best = e;
+            best_distance = d;
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
+LinkReconstruction::LinkReconstruction(const Solution& solution, ParallelRunner& runner) : s_(solution) {
+    const Solution& s = s_;
+    link_begin_.assign(s.elements.size() + 1, 0);
+    for (const Link& link : s.links) ++link_begin_[link.receiver + 1];
+    for (size_t i = 0; i < s.elements.size(); ++i) link_begin_[i + 1] += link_begin_[i];
+    roots_.reserve(s.root_count);
+    for (uint32_t r = 0; r < s.root_count; ++r) roots_.push_back({s.elements[r].mesh, s.elements[r].polygon, r});
+    std::sort(roots_.begin(), roots_.end(), [](const RootKey& a, const RootKey& b) {
+        return std::tie(a.mesh, a.polygon, a.root) < std::tie(b.mesh, b.polygon, b.root);
+    });
+    if (s.cluster_links.empty()) return;
+    const size_t keys = s.root_count + s.clusters.size();
+    cluster_begin_.assign(keys + 1, 0);
+    for (const ClusterLink& link : s.cluster_links) ++cluster_begin_[keyOf(s, link.receiver) + 1];
+    for (size_t k = 0; k < keys; ++k) cluster_begin_[k + 1] += cluster_begin_[k];
+    // Separable links: the source's weighted radiosity towards the receiver's centroid, as
+    // the solve's ClusterTransfer computes it.
+    separable_flux_.assign(s.cluster_links.size(), DVec3(0.0));
+    runner.forEach(s.cluster_links.size(), 64, [&](size_t l) {
+        const ClusterLink& link = s.cluster_links[l];
+        if (link.kernel != kNoKernel || !(link.visibility > 0.0f)) return;
+        const Members sm = membersOf(s, link.source);
+        const DVec3 c_r = centroidOf(s, link.receiver);
+        DVec3 flux(0.0);
+        for (uint32_t k = sm.first; k < sm.first + sm.count; ++k) {
+            const Element& e = s.elements[s.cluster_members[k]];
+            flux += sourceWeight(e, c_r) * e.radiosity;
+        }
+        separable_flux_[l] = double(link.scale) * flux;
+    });
+}
+
+template <class F>
+void LinkReconstruction::forClusterPairs(uint32_t root, F&& f) const {
+    const Solution& s = s_;
+    if (cluster_begin_.empty()) return;
+    const auto visit = [&](uint32_t node) {
+        const size_t key = keyOf(s, node);
+        for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
+            const ClusterLink& link = s.cluster_links[l];
+            if (!(link.visibility > 0.0f) || link.kernel == kNoKernel) continue;
+            const Members rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
+            const uint32_t j = s.member_position[root] - rm.first;
+            for (uint32_t i = 0; i < sm.count; ++i) {
+                const double kernel = s.cluster_kernel[link.kernel + size_t(i) * rm.count + j];
+                if (kernel > 0.0) f(s.cluster_members[sm.first + i], kernel, link);
+            }
+        }
+    };
+    visit(root);
+    for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent) visit(c | kClusterNode);
+}
+
+// Gathers what needs no rays into g.sum (or `separable`), and lists in `pending` what does.
+void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
+                                     DVec3& separable) const {
+    const Solution& s = s_;
+    // A source whose visibility from the point is not known: its unoccluded light f B is
+    // what decides whether rays are worth casting. Without them it brings f V B (V: its
+    // link's visibility), or for a cluster pair kernel B (the pair's light over the receiver).
+    const auto defer = [&](uint32_t source_index, double visibility, double kernel) {
+        const Element& source = s.elements[source_index];
+        if (!(maxChannel(source.radiosity) > 0.0)) return;
+        const double f = piecePointFormFactor(g.point, g.normal, polygonOf(s, source).vertices, source.normal);
+        if (g.counters) ++g.counters->form_factors;
+        if (!(f > 0.0)) return;
+        const DVec3 fallback = (kernel > 0.0 ? kernel : f * visibility) * source.radiosity;
+        pending.push_back({source_index, f * maxChannel(source.radiosity), fallback});
+    };
+    for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
+        for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
+            const Link& link = s.links[l];
+            if (!(link.visibility > 0.0f)) continue;
+            if (!s.rays || (link.visibility >= 1.0f && !link.by_rays)) {
+                g.use_rays = false;
+                g.visit(link.source);
+            } else {
+                defer(link.source, link.visibility, 0.0);
+            }
+        }
+    if (cluster_begin_.empty()) return;
+    const uint32_t root = s.elements[leaf].root;
+    const auto visit = [&](uint32_t node) {
+        const size_t key = keyOf(s, node);
+        for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
+            const ClusterLink& link = s.cluster_links[l];
+            if (!(link.visibility > 0.0f) || link.kernel != kNoKernel) continue;
+            // Separable (far, wholly visible): the solve's product form, its receiver cosine
+            // taken at the point.
+            const DVec3 c_s = centroidOf(s, link.source), c_r = centroidOf(s, link.receiver);
+            const DVec3 u = c_s - g.point;
+            const double d2 = glm::dot(u, u), cos_d = glm::dot(g.normal, u);
+            if (cos_d > 0.0 && d2 > 0.0) {
+                const DVec3 w = c_s - c_r;
+                separable += cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2) * separable_flux_[l];
+            }
+        }
+    };
+    visit(root);
+    for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent) visit(c | kClusterNode);
+    // Pairwise (near): each member pair that carries light (some of its rays open), read
+    // like an element link from the source member: no rays when the link's shaft proved it
+    // visible (it then keeps no candidate list); without rays, the pair's kernel (its light
+    // averaged over the receiver, visibility included).
+    forClusterPairs(root, [&](uint32_t member, double kernel, const ClusterLink& link) {
+        if (!s.rays || link.candidates == kNoList) {
+            g.use_rays = false;
+            g.visit(member);
+        } else {
+            defer(member, 0.0, kernel);
+        }
+    });
+}
+
+uint32_t LinkReconstruction::leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const {
+    const Solution& s = s_;
+    if (!s.scene || mesh >= s.scene->meshes.size()) return kNoElement;
+    const Mesh& m = s.scene->meshes[mesh];
+    if (triangle >= m.triangles.size()) return kNoElement;
+    const uint32_t polygon = m.triangle_polygon.empty() ? triangle : m.triangle_polygon[triangle];
+    const auto [lo, hi] = std::equal_range(roots_.begin(), roots_.end(), RootKey{mesh, polygon, 0},
+                                           [](const RootKey& a, const RootKey& b) {
+                                               return std::tie(a.mesh, a.polygon) < std::tie(b.mesh, b.polygon);
+                                           });
+    if (lo == hi) return kNoElement;
+    std::vector<uint32_t> candidates;
+    for (auto it = lo; it != hi; ++it) candidates.push_back(it->root);
+    uint32_t e = nearest(s, candidates, p_world);
+    while (!s.elements[e].isLeaf()) {
+        const Element& element = s.elements[e];
+        std::array<uint32_t, 8> children{};
+        const uint32_t count = std::min<uint32_t>(element.child_count, 8);
+        for (uint32_t c = 0; c < count; ++c) children[c] = element.first_child + c;
+        e = nearest(s, std::span<const uint32_t>(children.data(), count), p_world);
+    }
+    return e;
+}
+
+DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                                   ProbeCounters* counters) const {
+    const Solution& s = s_;
+    const uint32_t leaf = leafAt(mesh, triangle, p_world);
+    // Only a point on its element's front side reads that element's links, and only a
+    // surface that reflects: the solve links nothing to a black receiver (an emitter, most
+    // often), whose texels still hold what it receives.
+    if (leaf == kNoElement || !(glm::dot(s.elements[leaf].normal, normal) > 0.5) ||
+        !(maxChannel(s.elements[leaf].reflectance) > 0.0))
+        return counters ? probeIrradianceCounted(s, p_world, normal, *counters) : probeIrradiance(s, p_world, normal);
+    const uint32_t root = s.elements[leaf].root;
+    const double lift = gather::kLift * s.scene_extent;
+    // The lift off the polygons the point touches (gather.h), among those that can light it:
+    // its own root and the roots of its links' sources.
+    std::array<uint32_t, 64> touched{};
+    size_t touched_count = 0;
+    DVec3 direction(0.0);
+    const auto touch = [&](uint32_t r) {
+        for (size_t k = 0; k < touched_count; ++k)
+            if (touched[k] == r) return;
+        if (touched_count < touched.size()) touched[touched_count++] = r;
+        gather::addLiftDirection(s, r, p_world, lift, direction);
+    };
+    touch(root);
+    for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
+        for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
+            const Element& source = s.elements[s.links[l].source];
+            // A source polygon can touch the point only if it comes within lift of it.
+            if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(source.root);
+        }
+    // And the members of pairwise cluster links (a neighbouring tile of a tessellated wall).
+    forClusterPairs(root, [&](uint32_t member, double, const ClusterLink&) {
+        const Element& source = s.elements[member];
+        if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(member);
+    });
+    const DVec3 point = p_world + lift * direction;
+    gather::Gatherer g{.s = s,
+                       .point = point,
+                       .normal = normal,
+                       .origin = point + lift * normal,
+                       .lift = lift,
+                       .counters = counters,
+                       .coarse_rule = false,
+                       .link_visibility_ratio = kLinkVisibilityRatio,
+                       .max_visibility_splits = kLinkVisibilitySplits};
+    std::vector<PendingSource> pending;
+    DVec3 separable(0.0);
+    gatherLinks(leaf, g, pending, separable);
+    // Rays only where they can matter: sources by decreasing unoccluded light get their
+    // visibility from rays at the point until what is left could bring at most kRayShare of
+    // the point's light; those keep the solver's visibility (over the receiver). The bound
+    // is on their sum: under a block on a floor, many small partly visible links each
+    // below the share add up to a leak.
+    DVec3 estimate = g.sum + separable;
+    double pending_light = 0.0;
+    for (const PendingSource& p : pending) {
+        estimate += p.fallback;
+        pending_light += p.light;
+    }
+    const double total = maxChannel(estimate);
+    std::vector<uint32_t> order(pending.size());
+    for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return pending[a].light != pending[b].light ? pending[a].light > pending[b].light : a < b;
+    });
+    for (const uint32_t k : order) {
+        const PendingSource& p = pending[k];
+        if (pending_light > kRayShare * total) {
+            g.use_rays = true;
+            g.visit(p.source);
+        } else {
+            g.sum += p.fallback;
+        }
+        pending_light -= p.light;
+    }
+    DVec3 h = g.sum + separable;
+    if (s.scene && !s.scene->lights.empty())
+        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal);
+    return h;
+}
+
+DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                     const DVec3& normal) const {
+    return evaluate(mesh, triangle, p_world, normal, nullptr);
+}
+
+DVec3 LinkReconstruction::irradianceCounted(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                            const DVec3& normal, ProbeCounters& counters) const {
+    return evaluate(mesh, triangle, p_world, normal, &counters);
+}
+
+}  // namespace radbake

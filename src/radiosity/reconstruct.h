@@ -1,0 +1,81 @@
+#pragma once
+// Irradiance on the scene's surfaces from the solution's links (issue 12): the "local pass"
+// of Smits et al. 1994 and Christensen et al. 1996. A point of a leaf element gathers only
+// from the sources of the links that reach that leaf or one of its ancestors (together they
+// cover, once, everything the solver let light the point), with exact point-to-polygon
+// form factors, each source opened like the exhaustive gather opens elements, and:
+//   - a link's own visibility where the solver knows it (1 proven by its shaft: no rays;
+//     0: nothing); for the others (partly visible, or found wholly visible by the solver's
+//     few rays, between which a shadow edge may pass) rays at the point where the source
+//     may bring more than a small share of the point's light, the link's own visibility
+//     elsewhere;
+//   - cluster links likewise: a pairwise link's member pairs gathered like element links
+//     (rays unless its shaft proved it visible), a separable link
+//     (far, wholly visible) by the solve's own product form, its receiver cosine taken at
+//     the point;
+//   - punctual lights' direct light by rays, as probeIrradiance.
+// probeIrradiance (the exhaustive gather from every root, rays for every element) stays the
+// reference: --texel-tolerance 0 and --quality reference use it.
+#include <cstdint>
+#include <vector>
+
+#include "core/parallel.h"
+#include "radiosity/evaluate_probe.h"
+#include "radiosity/solution.h"
+
+namespace radbake {
+
+namespace gather {
+struct Gatherer;
+}
+
+// How the bake reads the solution at its vertices, texels and probes.
+enum class GatherMode {
+    Links,       // LinkReconstruction
+    Exhaustive,  // probeIrradiance at every point (the reference)
+};
+
+class LinkReconstruction {
+public:
+    // Tables over the solution (link ranges, which roots a source polygon became, the
+    // cluster light per root): the solution must outlive it and stay unchanged.
+    LinkReconstruction(const Solution& solution, ParallelRunner& runner);
+
+    // H (W/m^2) at p_world, a point of triangle `triangle` of Scene::meshes[mesh], on the side
+    // `normal` faces (unit; the triangle's normal). Where the triangle has no element
+    // (degenerate) or faces the other way: probeIrradiance. Thread-safe, deterministic.
+    DVec3 irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
+    DVec3 irradianceCounted(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                            ProbeCounters& counters) const;
+
+    // The leaf element holding p_world on that triangle (kNoElement: none); ties go to the
+    // first element in order.
+    uint32_t leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const;
+
+private:
+    DVec3 evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                   ProbeCounters* counters) const;
+    struct PendingSource {
+        uint32_t source;  // element
+        double light;     // f B (max channel), unoccluded
+        DVec3 fallback;   // its light without rays
+    };
+    // f(source member, kernel, link) for every member pair of a pairwise cluster link that
+    // reaches `root` and carries light, in a fixed order.
+    template <class F>
+    void forClusterPairs(uint32_t root, F&& f) const;
+    void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
+                     DVec3& separable) const;
+
+    const Solution& s_;
+    std::vector<size_t> link_begin_;  // per element + 1: its links in Solution::links
+    struct RootKey {
+        uint32_t mesh, polygon, root;
+    };
+    std::vector<RootKey> roots_;      // sorted by (mesh, polygon, root)
+    // Clustering (empty without cluster links).
+    std::vector<size_t> cluster_begin_;     // per receiver key (roots, then clusters) + 1
+    std::vector<DVec3> separable_flux_;     // per separable cluster link: sum_i s_i B_i (cluster.cpp)
+};
+
+}  // namespace radbake
