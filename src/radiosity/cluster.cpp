@@ -222,6 +222,8 @@ constexpr int kRaysPerMember = 3;  // separable links: each member casts this ma
 // visibility is sampled with kFaintRays rays (spread over its member pairs) instead of rays
 // from every member, and applied to every pair when they agree.
 constexpr double kFaintFraction = 0.25;
+// Cluster links stop refining at this fraction of the element links' threshold.
+constexpr double kClusterThresholdScale = 0.25;
 constexpr size_t kFaintRays = 16;
 // Points this close to a plane (fraction of the scene's extent) lie in it: above float
 // rounding of coordinates (1e-7), below any gap a lighting result can see.
@@ -383,7 +385,7 @@ void ClusterRefiner::prepareRound() {
     for (uint32_t r = 0; r < n; ++r) {
         const Element& e = s.elements[r];
         node_power_[r] = e.area * maxChannel(e.radiosity);
-        node_threshold_[r] = state_.thresholdFor(r);
+        node_threshold_[r] = kClusterThresholdScale * state_.thresholdFor(r);
     }
     for (size_t c = s.clusters.size(); c-- > 0;) {
         const Cluster& cluster = s.clusters[c];
