@@ -46,6 +46,7 @@
 //     by the links' geometric kernel at each leaf (exact for uniform radiosity, the analogue
 //     of solve.cpp's row-sum correction, which keeps the root's power).
 #include "radiosity/cluster.h"
+#include "radiosity/cluster_nodes.h"
 
 #include "core/memory.h"
 
@@ -63,32 +64,6 @@
 
 namespace radbake {
 namespace {
-
-bool isCluster(uint32_t node) { return (node & kClusterNode) != 0; }
-uint32_t clusterOf(uint32_t node) { return node & ~kClusterNode; }
-uint32_t clusterNode(uint32_t cluster) { return cluster | kClusterNode; }
-
-struct Range {
-    uint32_t first = 0;
-    uint32_t count = 0;
-};
-
-Range membersOf(const Solution& s, uint32_t node) {
-    if (isCluster(node)) {
-        const Cluster& c = s.clusters[clusterOf(node)];
-        return {c.first_member, c.member_count};
-    }
-    return {s.member_position[node], 1};
-}
-
-// Receiver key: roots first, then clusters (the order cluster links are grouped in).
-size_t keyOf(const Solution& s, uint32_t node) {
-    return isCluster(node) ? s.root_count + clusterOf(node) : node;
-}
-
-DVec3 centroidOf(const Solution& s, uint32_t node) {
-    return isCluster(node) ? s.clusters[clusterOf(node)].centroid : s.elements[node].centroid;
-}
 
 double boxDistance(const Aabb& a, const Aabb& b) {
     double d2 = 0.0;
@@ -155,27 +130,6 @@ double pairKernel(const Solution& s, const Element& i, const Element& j, const D
     const PolygonView source = polygonOf(s, i);
     if (!facing(polygonOf(s, j), source)) return 0.0;
     return averagedFormFactor(s, j, source, j_points);
-}
-
-// Separable kernel K_ji ~ s_i r_j: the product form f(x, y) ~ f(x, c_R) f(c_S, y) / f(c_S, c_R)
-// of A_i cos_i cos_j / (pi d_ij^2), first-order right in each end's extent.
-// Source member i's weight towards the receiver's centroid c_R: A_i cos_i / (pi d^2).
-double sourceWeight(const Element& i, const DVec3& c_r) {
-    const DVec3 u = c_r - i.centroid;
-    const double d2 = glm::dot(u, u);
-    const double cos_d = glm::dot(i.normal, u);
-    if (!(cos_d > 0.0) || !(d2 > 0.0)) return 0.0;
-    return i.area * cos_d / (kPi * d2 * std::sqrt(d2));
-}
-// Receiver member j's factor: its cosine towards the source's centroid c_S, and the change of
-// 1 / d^2 from (c_S, c_R) to (c_S, c_j).
-double receiverCosine(const Element& j, const DVec3& c_s, const DVec3& c_r) {
-    const DVec3 u = c_s - j.centroid;
-    const double d2 = glm::dot(u, u);
-    const double cos_d = glm::dot(j.normal, u);
-    if (!(cos_d > 0.0) || !(d2 > 0.0)) return 0.0;
-    const DVec3 w = c_s - c_r;
-    return cos_d / std::sqrt(d2) * (glm::dot(w, w) / d2);
 }
 
 OcclusionTest occlusionTestFor(LinkVisibility mode) {
@@ -597,7 +551,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         }
         ev.decision = Decision::Keep;
         const bool faint = error <= kFaintFraction * node_threshold_[keyOf(s, r_node)];
-        const Range rm = membersOf(s, r_node), sm = membersOf(s, s_node);
+        const NodeMembers rm = membersOf(s, r_node), sm = membersOf(s, s_node);
         auto src_point = [&](uint32_t i, int q) {
             return root_points_[size_t(s.cluster_members[sm.first + i]) * kPointsPerMember + q % kPointsPerMember];
         };
@@ -815,7 +769,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
 void forEachClusterExchange(const Solution& s, const std::function<void(uint32_t, uint32_t)>& join) {
     for (const ClusterLink& link : s.cluster_links) {
         if (link.visibility == 0.0f) continue;
-        const Range rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
+        const NodeMembers rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
         if (link.visibility < 0.0f) {
             // Deferred: it will carry light once its source has some; join both ends whole (a
             // group too large only brings its threshold nearer the scene's).
@@ -866,18 +820,7 @@ void ClusterTransfer::gather(const Solution& s, ParallelRunner& runner, std::vec
     per_root.assign(s.root_count, DVec3(0.0));
     if (empty_) return;
     // Separable links: the source's weighted radiosity towards the receiver's centroid.
-    runner.forEach(s.cluster_links.size(), 64, [&](size_t l) {
-        const ClusterLink& link = s.cluster_links[l];
-        if (link.kernel != kNoKernel || !(link.visibility > 0.0f)) return;
-        const Range sm = membersOf(s, link.source);
-        const DVec3 c_r = centroidOf(s, link.receiver);
-        DVec3 flux(0.0);
-        for (uint32_t k = sm.first; k < sm.first + sm.count; ++k) {
-            const Element& e = s.elements[s.cluster_members[k]];
-            flux += sourceWeight(e, c_r) * e.radiosity;
-        }
-        flux_[l] = double(link.scale) * flux;
-    });
+    runner.forEach(s.cluster_links.size(), 64, [&](size_t l) { flux_[l] = separableFlux(s, s.cluster_links[l]); });
     // Every root gathers from the links of its own node and of its clusters, in a fixed order.
     runner.forEach(s.root_count, 64, [&](size_t r) {
         const uint32_t root = static_cast<uint32_t>(r);
@@ -889,7 +832,7 @@ void ClusterTransfer::gather(const Solution& s, ParallelRunner& runner, std::vec
                 h += receiverCosine(receiver, centroidOf(s, link.source), centroidOf(s, link.receiver)) * flux_[l];
                 return;
             }
-            const Range rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
+            const NodeMembers rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
             const uint32_t j = s.member_position[root] - rm.first;
             const double* kernel = s.cluster_kernel.data() + link.kernel;
             for (uint32_t i = 0; i < sm.count; ++i)
@@ -921,7 +864,7 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
         double sum = 0.0;
         forLinksOf(s, leaf.root, [&](size_t l) {
             const ClusterLink& link = s.cluster_links[l];
-            const Range sm = membersOf(s, link.source);
+            const NodeMembers sm = membersOf(s, link.source);
             if (link.kernel == kNoKernel) {
                 // Separable (far) links: point kernels between centroids.
                 for (uint32_t i = sm.first; i < sm.first + sm.count; ++i) {
@@ -933,7 +876,7 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
                 return;
             }
             // Small (near) links: the exact point-to-polygon form factor of each pair that carries light.
-            const Range rm = membersOf(s, link.receiver);
+            const NodeMembers rm = membersOf(s, link.receiver);
             const uint32_t j = s.member_position[leaf.root] - rm.first;
             const double* kernel = s.cluster_kernel.data() + link.kernel;
             for (uint32_t i = 0; i < sm.count; ++i) {

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "radiosity/cluster.h"
+#include "radiosity/cluster_nodes.h"
 #include "radiosity/gather.h"
 #include "radiosity/punctual_lights.h"
 
@@ -27,37 +28,6 @@ namespace {
 constexpr double kRayShare = 0.05;
 constexpr double kLinkVisibilityRatio = 0.05;
 constexpr int kLinkVisibilitySplits = 1;
-
-bool isClusterNode(uint32_t node) { return (node & kClusterNode) != 0; }
-
-// Receiver key of a node: roots first, then clusters (the order cluster links are grouped in).
-size_t keyOf(const Solution& s, uint32_t node) {
-    return isClusterNode(node) ? s.root_count + (node & ~kClusterNode) : node;
-}
-
-struct Members {
-    uint32_t first = 0, count = 0;
-};
-Members membersOf(const Solution& s, uint32_t node) {
-    if (isClusterNode(node)) {
-        const Cluster& c = s.clusters[node & ~kClusterNode];
-        return {c.first_member, c.member_count};
-    }
-    return {s.member_position[node], 1};
-}
-
-DVec3 centroidOf(const Solution& s, uint32_t node) {
-    return isClusterNode(node) ? s.clusters[node & ~kClusterNode].centroid : s.elements[node].centroid;
-}
-
-// cluster.cpp's separable source weight: A_i cos_i / (pi d^3) towards c_r (keep in step).
-double sourceWeight(const Element& i, const DVec3& c_r) {
-    const DVec3 u = c_r - i.centroid;
-    const double d2 = glm::dot(u, u);
-    const double cos_d = glm::dot(i.normal, u);
-    if (!(cos_d > 0.0) || !(d2 > 0.0)) return 0.0;
-    return i.area * cos_d / (kPi * d2 * std::sqrt(d2));
-}
 
 // The polygon among `candidates` that holds p: the first within a rounding tolerance of it
 // (1e-6 of its size: a point on the edge two children share, a chart edge's sample, goes to
@@ -97,18 +67,8 @@ LinkReconstruction::LinkReconstruction(const Solution& solution, ParallelRunner&
     // Separable links: the source's weighted radiosity towards the receiver's centroid, as
     // the solve's ClusterTransfer computes it.
     separable_flux_.assign(s.cluster_links.size(), DVec3(0.0));
-    runner.forEach(s.cluster_links.size(), 64, [&](size_t l) {
-        const ClusterLink& link = s.cluster_links[l];
-        if (link.kernel != kNoKernel || !(link.visibility > 0.0f)) return;
-        const Members sm = membersOf(s, link.source);
-        const DVec3 c_r = centroidOf(s, link.receiver);
-        DVec3 flux(0.0);
-        for (uint32_t k = sm.first; k < sm.first + sm.count; ++k) {
-            const Element& e = s.elements[s.cluster_members[k]];
-            flux += sourceWeight(e, c_r) * e.radiosity;
-        }
-        separable_flux_[l] = double(link.scale) * flux;
-    });
+    runner.forEach(s.cluster_links.size(), 64,
+                   [&](size_t l) { separable_flux_[l] = separableFlux(s, s.cluster_links[l]); });
 }
 
 template <class F>
@@ -120,7 +80,7 @@ void LinkReconstruction::forClusterPairs(uint32_t root, F&& f) const {
         for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
             const ClusterLink& link = s.cluster_links[l];
             if (!(link.visibility > 0.0f) || link.kernel == kNoKernel) continue;
-            const Members rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
+            const NodeMembers rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
             const uint32_t j = s.member_position[root] - rm.first;
             for (uint32_t i = 0; i < sm.count; ++i) {
                 const double kernel = s.cluster_kernel[link.kernel + size_t(i) * rm.count + j];
