@@ -148,6 +148,7 @@ struct ClusterEvaluation {
     bool shaft = false;
     bool new_list = false;              // candidates hold a new list, else `list` is inherited
     bool first_candidate_only = false;  // candidates hold only the first (a kept link's shaft)
+    size_t list_parts = 0;              // parts named by the link's inherited list
     uint32_t list = kNoList;
     std::vector<uint32_t> candidates;
     std::vector<double> kernel;         // pairwise links
@@ -490,10 +491,9 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         // A link that splits, with a list too long for the occlusion test, would only cull
         // its list for its children: they cull their parent's list as well through the part
         // tree (part_tree.h), at about the same cost, so no shaft is built for it.
-        const bool cull_only = !visible && state_.parts.tree.empty() == false &&
-                               candidatePartCount(state_.parts, state_.candidate_pool[link.candidates]) >
-                                   kCullOnlyListSize;
-        if (!rays_mode && !visible && !(split && cull_only)) {
+        ev.list_parts = visible ? 0 : candidatePartCount(state_.parts, state_.candidate_pool[link.candidates]);
+        const bool long_list = ev.list_parts > kCullOnlyListSize;
+        if (!rays_mode && !visible && !(split && long_list && !state_.parts.tree.empty())) {
             // Shaft between the ends: a cluster by its box corners, a root by its polygon.
             const std::array<DVec3, 8> rc = corners(rb), sc = corners(sb);
             const std::span<const DVec3> rp = isCluster(r_node)
@@ -515,8 +515,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             // every crossing part of long lists cost 70 % of house.wrl's refinement and killed
             // nothing there; the sub-links test their shorter lists, and a link kept with a
             // long list gets rays.
-            const size_t list_size = candidatePartCount(state_.parts, state_.candidate_pool[link.candidates]);
-            query.test = list_size > kCullOnlyListSize ? OcclusionTest::None : test;
+            query.test = long_list ? OcclusionTest::None : test;
             query.polygon_shaft = false;
             query.excluded = excluded;
             // A flat cluster's own plane holds nothing that can block it (ShaftQuery).
@@ -731,8 +730,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 uint32_t list = ev.list;
                 if (ev.new_list && ev.first_candidate_only) {
                     list = link.candidates;  // kept, then split by its rays: its list is incomplete
-                } else if (ev.new_list && 4 * candidatePartCount(state_.parts, ev.candidates) >
-                                       3 * candidatePartCount(state_.parts, state_.candidate_pool[link.candidates])) {
+                } else if (ev.new_list && 4 * candidatePartCount(state_.parts, ev.candidates) > 3 * ev.list_parts) {
                     list = link.candidates;
                 } else if (ev.new_list) {
                     list = static_cast<uint32_t>(state_.candidate_pool.size());

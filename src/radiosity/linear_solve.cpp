@@ -59,8 +59,9 @@ struct Operator {
     // quarter of its cost; the corrections only redistribute within a root, so this moves
     // no power (it was most of a solve's set-up on the 35k-triangle classroom).
     static constexpr double kFarSource = 8.0;
-    double leafAverage(const Element& leaf, const Element& source_element, const PolygonView& source) const {
+    double leafAverage(const Element& leaf, const Element& source_element) const {
         const PolygonView poly = polygonOf(s, leaf);
+        const PolygonView source = polygonOf(s, source_element);
         const DVec3 d = source_element.centroid - leaf.centroid;
         const double near = kFarSource * (leaf.radius + source_element.radius);
         if (poly.vertices.size() != 4 || glm::dot(d, d) > near * near)
@@ -79,7 +80,7 @@ struct Operator {
                     const Link& link = s.links[l];
                     const Element& source = s.elements[link.source];
                     hierarchical += link.form_factor;
-                    exact += link.visibility * leafAverage(leaf, source, polygonOf(s, source));
+                    exact += link.visibility * leafAverage(leaf, source);
                 }
             }
             double own = 0.0;
