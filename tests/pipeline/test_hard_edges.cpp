@@ -4,7 +4,6 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -17,12 +16,6 @@ using namespace radbake;
 using testfs::TempDir;
 
 namespace {
-
-std::string write(const TempDir& dir, const std::string& name, const std::string& text) {
-    const std::string path = (dir.path / name).string();
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-}
 
 Scene import(const std::string& path) {
     Diagnostics diagnostics;
@@ -54,14 +47,14 @@ constexpr const char* kCubeCoordinates =
 
 TEST_CASE("hard edges: a VRML97 Box and an IndexedFaceSet cube with shared corners come out with 24 vertices") {
     TempDir dir;
-    const Scene box = import(write(dir, "box.wrl", "#VRML V2.0 utf8\nShape { geometry Box { } }\n"));
+    const Scene box = import(testfs::writeText(dir, "box.wrl", "#VRML V2.0 utf8\nShape { geometry Box { } }\n"));
     REQUIRE(box.meshes.size() == 1);
     CHECK(box.meshes[0].positions.size() == 24);
     checkFlatNormals(box.meshes[0]);
     CHECK(box.crease_split.vertices == 8);
     CHECK(box.crease_split.added == 16);
 
-    const Scene cube = import(write(dir, "cube.wrl", std::string("#VRML V2.0 utf8\nShape { geometry IndexedFaceSet {\n") +
+    const Scene cube = import(testfs::writeText(dir, "cube.wrl", std::string("#VRML V2.0 utf8\nShape { geometry IndexedFaceSet {\n") +
                                                          kCubeCoordinates + "} }\n"));
     REQUIRE(cube.meshes.size() == 1);
     CHECK(cube.meshes[0].crease_angle == 0.0f);  // VRML97's default
@@ -69,7 +62,7 @@ TEST_CASE("hard edges: a VRML97 Box and an IndexedFaceSet cube with shared corne
     checkFlatNormals(cube.meshes[0]);
 
     // creaseAngle above 90 degrees: the file asks for a smooth cube, and gets one.
-    const Scene smooth = import(write(dir, "smooth.wrl",
+    const Scene smooth = import(testfs::writeText(dir, "smooth.wrl",
                                       std::string("#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { creaseAngle 1.6\n") +
                                           kCubeCoordinates + "} }\n"));
     CHECK(smooth.meshes[0].positions.size() == 8);
@@ -78,7 +71,7 @@ TEST_CASE("hard edges: a VRML97 Box and an IndexedFaceSet cube with shared corne
 
 TEST_CASE("hard edges: round primitives keep their sides smooth and split only at the rims") {
     TempDir dir;
-    const Scene scene = import(write(dir, "round.wrl",
+    const Scene scene = import(testfs::writeText(dir, "round.wrl",
                                      "#VRML V2.0 utf8\n"
                                      "Shape { geometry Sphere { } }\n"
                                      "Transform { translation 3 0 0 children Shape { geometry Cylinder { } } }\n"
@@ -119,7 +112,7 @@ TEST_CASE("hard edges: VRML 1.0 ShapeHints creaseAngle defaults to 0.5 rad") {
                std::to_string(std::sin(a)) + ", " + std::to_string(std::cos(a)) + " 1 " + std::to_string(std::sin(a)) +
                " ] }\nIndexedFaceSet { coordIndex [ 0 1 2 3 -1, 1 4 5 2 -1 ] }\n";
     };
-    const Scene scene = import(write(dir, "folds.wrl",
+    const Scene scene = import(testfs::writeText(dir, "folds.wrl",
                                      "#VRML V1.0 ascii\nSeparator {\n Separator { " + folded(20.0) + " }\n Separator { Translation { translation 0 0 5 } " +
                                          folded(40.0) + " }\n Separator { Translation { translation 0 0 -5 } Cube { } }\n}\n"));
     REQUIRE(scene.meshes.size() == 3);
@@ -137,7 +130,7 @@ TEST_CASE("hard edges: an OBJ keeps its per-face normals apart; without normals 
                               "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
                               "f 1//1 3//1 4//1 2//1\nf 5//2 6//2 8//2 7//2\nf 1//3 2//3 6//3 5//3\n"
                               "f 3//4 7//4 8//4 4//4\nf 1//5 5//5 7//5 3//5\nf 2//6 4//6 8//6 6//6\n";
-    const Scene with_normals = import(write(dir, "faced.obj", faced));
+    const Scene with_normals = import(testfs::writeText(dir, "faced.obj", faced));
     REQUIRE(with_normals.meshes.size() == 1);
     CHECK(with_normals.meshes[0].positions.size() == 24);
     CHECK(with_normals.meshes[0].normals.size() == 24);
@@ -145,7 +138,7 @@ TEST_CASE("hard edges: an OBJ keeps its per-face normals apart; without normals 
     checkFlatNormals(with_normals.meshes[0]);
 
     const std::string bare = v + "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
-    const Scene without = import(write(dir, "bare.obj", bare));
+    const Scene without = import(testfs::writeText(dir, "bare.obj", bare));
     CHECK(without.meshes[0].positions.size() == 24);
     checkFlatNormals(without.meshes[0]);
 
@@ -155,13 +148,13 @@ TEST_CASE("hard edges: an OBJ keeps its per-face normals apart; without normals 
         smooth += "vn " + std::string(c & 1 ? "1" : "-1") + (c & 2 ? " 1" : " -1") + (c & 4 ? " 1\n" : " -1\n");
     smooth += "f 1//1 3//3 4//4 2//2\nf 5//5 6//6 8//8 7//7\nf 1//1 2//2 6//6 5//5\n"
               "f 3//3 7//7 8//8 4//4\nf 1//1 5//5 7//7 3//3\nf 2//2 4//4 8//8 6//6\n";
-    CHECK(import(write(dir, "smooth.obj", smooth)).meshes[0].positions.size() == 8);
+    CHECK(import(testfs::writeText(dir, "smooth.obj", smooth)).meshes[0].positions.size() == 8);
 }
 
 TEST_CASE("hard edges: a black cube above an emitting floor bakes each face's own light at a shared corner") {
     // Floor: 20 x 20 at y = 0, emitting radiance 1, black; the cube: black, 1 m, 0.1 m above.
     TempDir dir;
-    const std::string path = write(dir, "cube_on_floor.wrl",
+    const std::string path = testfs::writeText(dir, "cube_on_floor.wrl",
                                    "#VRML V2.0 utf8\n"
                                    "Shape { appearance Appearance { material Material { diffuseColor 0 0 0 emissiveColor 1 1 1 } }\n"
                                    " geometry IndexedFaceSet { coord Coordinate { point [ -10 0 -10, -10 0 10, 10 0 10, 10 0 -10 ] }\n"

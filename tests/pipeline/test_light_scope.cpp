@@ -3,7 +3,6 @@
 // Separator; PointLight and SpotLight are global in VRML97.
 #include <doctest/doctest.h>
 
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -14,12 +13,6 @@ using namespace radbake;
 using testfs::TempDir;
 
 namespace {
-
-std::string write(const TempDir& dir, const std::string& name, const std::string& text) {
-    const std::string path = (dir.path / name).string();
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-}
 
 // Two grey floors facing up, side by side (they cannot see each other): "A" at x in [0, 2],
 // "B" at x in [3, 5].
@@ -56,7 +49,7 @@ void checkMesh(const Bake& bake, size_t m, double expected) {
 
 TEST_CASE("light scope: a VRML97 DirectionalLight in a Group lights that group's surfaces only") {
     TempDir dir;
-    const std::string path = write(dir, "rooms.wrl",
+    const std::string path = testfs::writeText(dir, "rooms.wrl",
                                    "#VRML V2.0 utf8\n"
                                    "Group { children [ " + floorShape(0.0f) +
                                        " Transform { children DirectionalLight { direction 0 -1 0 } } ] }\n"
@@ -73,7 +66,7 @@ TEST_CASE("light scope: a VRML97 DirectionalLight in a Group lights that group's
     CHECK(warned);
 
     // The light beside the floor in its Group: E = 1 W/m^2 straight down, H / pi = 1 / pi.
-    const std::string lit = write(dir, "lit.wrl",
+    const std::string lit = testfs::writeText(dir, "lit.wrl",
                                   "#VRML V2.0 utf8\n"
                                   "Group { children [ " + floorShape(0.0f) +
                                       " DirectionalLight { direction 0 -1 0 } ] }\n"
@@ -87,7 +80,7 @@ TEST_CASE("light scope: a VRML97 DirectionalLight in a Group lights that group's
 
 TEST_CASE("light scope: a top-level DirectionalLight and a grouped PointLight light everything") {
     TempDir dir;
-    const Baked top = bakeFile(write(dir, "top.wrl",
+    const Baked top = bakeFile(testfs::writeText(dir, "top.wrl",
                                      "#VRML V2.0 utf8\nDirectionalLight { direction 0 -1 0 }\n"
                                      "Group { children [ " + floorShape(0.0f) + " ] }\nGroup { children [ " +
                                          floorShape(3.0f) + " ] }\n"));
@@ -95,7 +88,7 @@ TEST_CASE("light scope: a top-level DirectionalLight and a grouped PointLight li
     checkMesh(top.bake, 0, 1.0 / kPi);
     checkMesh(top.bake, 1, 1.0 / kPi);
 
-    const Baked point = bakeFile(write(dir, "point.wrl",
+    const Baked point = bakeFile(testfs::writeText(dir, "point.wrl",
                                        "#VRML V2.0 utf8\n"
                                        "Group { children [ " + floorShape(0.0f) +
                                            " PointLight { location 2.5 10 1 intensity 100 radius 1000 } ] }\n"
@@ -113,7 +106,7 @@ TEST_CASE("light scope: a VRML 1.0 light lights what follows it in its Separator
                " 0 0 ] }\nIndexedFaceSet { coordIndex [ 0 1 2 3 -1 ] }\n";
     };
     // Floor 0 precedes the light, floor 1 follows it in its Separator, floor 2 is outside.
-    const Baked v1 = bakeFile(write(dir, "separators.wrl",
+    const Baked v1 = bakeFile(testfs::writeText(dir, "separators.wrl",
                                     "#VRML V1.0 ascii\nSeparator {\n Material { diffuseColor 0.5 0.5 0.5 }\n"
                                     " Separator { " + floor10(0.0f) + " DirectionalLight { direction 0 -1 0 } " +
                                         floor10(3.0f) + " }\n " + floor10(6.0f) + "}\n"));
