@@ -55,7 +55,7 @@ int runInfo(const InfoArgs& args) {
         std::printf("meshes     %zu\n", scene->meshes.size());
         std::printf("polygons   %zu\n", s.polygons);
         std::printf("triangles  %zu\n", s.triangles);
-        std::printf("vertices   %zu (%zu split at hard edges into %zu more)\n", s.vertices,
+        std::printf("vertices   %zu (%zu split at hard edges, %zu copies)\n", s.vertices,
                     scene->crease_split.vertices, scene->crease_split.added);
         std::printf("area       %.6g m^2\n", s.area);
         std::printf("bounds     [%.6g %.6g %.6g] .. [%.6g %.6g %.6g]\n", s.bounds_min.x, s.bounds_min.y,

@@ -2,7 +2,7 @@
 // Hard edges: a vertex shared by faces that meet at an edge sharper than the mesh's crease
 // angle becomes one vertex per crease group (the faces around it joined through edges
 // within the crease angle), so each face's corners carry that face's normal and light
-// (VRML97 creaseAngle, ISO/IEC 14772-1 6.23; VRML 1.0 ShapeHints). Smooth surfaces keep
+// (VRML97 creaseAngle, ISO/IEC 14772-1 IndexedFaceSet; VRML 1.0 ShapeHints). Smooth surfaces keep
 // their shared vertices, and the triangles of one polygon are never split from each other.
 #include <cstddef>
 

@@ -85,7 +85,7 @@ struct Light {
     float cut_off_angle = 0.785398f;     // radians (Spot)
     bool on = true;
     // The meshes the light reaches, sorted, when `scoped`: a VRML97 DirectionalLight lights
-    // only its siblings and their descendants (ISO/IEC 14772-1 4.6.6 and 6.16), a VRML 1.0
+    // only its siblings and their descendants (ISO/IEC 14772-1, DirectionalLight), a VRML 1.0
     // light what follows it in its Separator. Not scoped: every mesh (VRML97 PointLight and
     // SpotLight are global, so are Assimp's lights).
     bool scoped = false;

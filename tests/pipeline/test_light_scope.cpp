@@ -1,5 +1,5 @@
 // Light scope (issue 13): a VRML97 DirectionalLight lights only its siblings and their
-// descendants (ISO/IEC 14772-1 4.6.6, 6.16), a VRML 1.0 light only what follows it in its
+// descendants (ISO/IEC 14772-1, DirectionalLight), a VRML 1.0 light only what follows it in its
 // Separator; PointLight and SpotLight are global in VRML97.
 #include <doctest/doctest.h>
 

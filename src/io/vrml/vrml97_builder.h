@@ -72,7 +72,7 @@ private:
     bool aborted_ = false;
     std::vector<uint32_t> loop_;  // scratch polygon
     // Per open grouping node (and the file's top level): the meshes it started at and its
-    // DirectionalLights, which light only its children (ISO/IEC 14772-1 4.6.6, 6.16).
+    // DirectionalLights, which light only its children (ISO/IEC 14772-1, DirectionalLight).
     struct LightScope {
         size_t first_mesh = 0;
         std::vector<size_t> lights;
