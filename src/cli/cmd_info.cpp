@@ -35,6 +35,9 @@ int runInfo(const InfoArgs& args) {
         info["name"] = scene->name;
         info["triangles"] = s.triangles;
         info["polygons"] = s.polygons;
+        info["vertices"] = s.vertices;
+        info["hard_edge_vertices"] = scene->crease_split.vertices;
+        info["hard_edge_copies"] = scene->crease_split.added;
         info["meshes"] = scene->meshes.size();
         info["area"] = nine(s.area);
         info["bounds"]["min"] = {nine(s.bounds_min.x), nine(s.bounds_min.y), nine(s.bounds_min.z)};
@@ -52,6 +55,8 @@ int runInfo(const InfoArgs& args) {
         std::printf("meshes     %zu\n", scene->meshes.size());
         std::printf("polygons   %zu\n", s.polygons);
         std::printf("triangles  %zu\n", s.triangles);
+        std::printf("vertices   %zu (%zu split at hard edges, %zu copies)\n", s.vertices,
+                    scene->crease_split.vertices, scene->crease_split.added);
         std::printf("area       %.6g m^2\n", s.area);
         std::printf("bounds     [%.6g %.6g %.6g] .. [%.6g %.6g %.6g]\n", s.bounds_min.x, s.bounds_min.y,
                     s.bounds_min.z, s.bounds_max.x, s.bounds_max.y, s.bounds_max.z);

@@ -38,6 +38,9 @@ struct BakeReport {
     int threads = 0;        // timings.json: worker threads actually used
     double peak_rss_mb = 0.0;  // timings.json
     size_t meshes = 0, vertices = 0, triangles = 0, probes = 0;
+    // Vertices split at hard edges at import (Scene::crease_split): the shared ones, and the
+    // copies added (counted in `vertices`).
+    size_t hard_edge_vertices = 0, hard_edge_copies = 0;
     int warnings = 0;
     LightmapReport lightmaps;
 };

@@ -83,6 +83,8 @@ void fillSceneReport(const Scene& scene, Bake& out) {
         report.vertices += mesh.positions.size();
         report.triangles += mesh.triangles.size();
     }
+    report.hard_edge_vertices = scene.crease_split.vertices;
+    report.hard_edge_copies = scene.crease_split.added;
     report.probes = out.options.probes ? out.options.probes->size() : 0;
 }
 

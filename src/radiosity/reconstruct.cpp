@@ -253,7 +253,7 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     }
     DVec3 h = g.sum + separable;
     if (s.scene && !s.scene->lights.empty())
-        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal);
+        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
     return h;
 }
 

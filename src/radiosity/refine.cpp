@@ -252,7 +252,7 @@ void computeDirectLight(RefineState& state) {
                 const auto points = stratifiedPolygonPoints(poly.vertices, 3);
                 DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
                 for (const DVec3& p : points) {
-                    const DVec3 h = punctualIrradiance(scene.lights, s.rays.get(), p, e.normal, &rays[k]);
+                    const DVec3 h = punctualIrradiance(scene.lights, s.rays.get(), p, e.normal, &rays[k], e.mesh);
                     sum += h;
                     lo = glm::min(lo, h);
                     hi = glm::max(hi, h);

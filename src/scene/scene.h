@@ -63,7 +63,9 @@ struct Mesh {
     uint32_t polygon_count = 0;
     uint32_t material = 0;               // index into Scene::materials
     bool solid = true;                   // VRML `solid`: back faces may be culled
-    float crease_angle = 0.0f;           // radians, for vertex normals
+    // Radians: an edge whose faces meet at a larger angle is hard, and the vertices along it
+    // are split (scene/creases.h); smaller angles are smooth.
+    float crease_angle = 0.0f;
     bool convex_solid = false;           // the reader knows this is one closed convex solid (Box, Cylinder, ...)
     SourceLocation location;             // the node that made it
 };
@@ -82,7 +84,15 @@ struct Light {
     float beam_width = 1.570796f;        // radians (Spot)
     float cut_off_angle = 0.785398f;     // radians (Spot)
     bool on = true;
+    // The meshes the light reaches, sorted, when `scoped`: a VRML97 DirectionalLight lights
+    // only its siblings and their descendants (ISO/IEC 14772-1, DirectionalLight), a VRML 1.0
+    // light what follows it in its Separator. Not scoped: every mesh (VRML97 PointLight and
+    // SpotLight are global, so are Assimp's lights).
+    bool scoped = false;
+    std::vector<uint32_t> scope;
     SourceLocation location;
+
+    bool lights(uint32_t mesh) const;
 };
 
 struct Camera {
@@ -91,6 +101,13 @@ struct Camera {
     Quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  // rotates the default view (looking down -Z, +Y up)
     float field_of_view = 0.785398f;           // radians, the smaller of the two view angles
     SourceLocation location;
+};
+
+// What splitHardEdges did at import (scene/creases.h).
+struct CreaseSplitCounts {
+    size_t meshes = 0;    // meshes with a hard edge through a shared vertex
+    size_t vertices = 0;  // vertices that were shared across a hard edge
+    size_t added = 0;     // vertices added by splitting them
 };
 
 struct Scene {
@@ -103,12 +120,14 @@ struct Scene {
     // Every file the import read, the scene file first, each once (Inline'd and EXTERNPROTO
     // files, MTL files, ...): what a depfile names and what provenance hashes.
     std::vector<std::string> input_files;
+    CreaseSplitCounts crease_split;
 };
 
 // Summary figures used by `radbake info` and by later stages.
 struct SceneSummary {
     size_t triangles = 0;
     size_t polygons = 0;
+    size_t vertices = 0;
     double area = 0.0;  // total one-sided area
     Vec3 bounds_min{0.0f};
     Vec3 bounds_max{0.0f};
