@@ -215,6 +215,40 @@ double relativeGap(const DVec3& a, const DVec3& b, double floor) {
     return worst;
 }
 
+// Unknowns coupled through rows (a connected component of the fit), with their rows; in
+// order of their smallest unknown, each listing its own in increasing order.
+struct Coupled {
+    std::vector<uint32_t> unknowns;
+    std::vector<uint32_t> rows;
+};
+
+std::vector<Coupled> coupledGroups(const std::vector<Row>& rows, size_t n) {
+    std::vector<uint32_t> parent(n);
+    for (size_t i = 0; i < n; ++i) parent[i] = static_cast<uint32_t>(i);
+    const auto find = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (const Row& row : rows)
+        for (int k = 1; k < row.count; ++k) {
+            const uint32_t a = find(row.taps[0].unknown), b = find(row.taps[k].unknown);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<uint32_t> group_of(n, UINT32_MAX);
+    std::vector<Coupled> groups;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t root = find(static_cast<uint32_t>(i));
+        if (group_of[root] == UINT32_MAX) {
+            group_of[root] = static_cast<uint32_t>(groups.size());
+            groups.emplace_back();
+        }
+        groups[group_of[root]].unknowns.push_back(static_cast<uint32_t>(i));
+    }
+    for (size_t r = 0; r < rows.size(); ++r)
+        if (rows[r].count > 0) groups[group_of[find(rows[r].taps[0].unknown)]].rows.push_back(static_cast<uint32_t>(r));
+    return groups;
+}
+
 // Preconditioned (Jacobi) conjugate gradient on (P + sum w c c^T) delta = rhs, matrix-free.
 int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& rhs,
                  std::vector<double>& delta) {
@@ -456,21 +490,44 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
         if (image.state[pixel] != TexelState::Covered) prior[i] = kFree;
         else prior[i] = centreOnGeometry(layout.charts[unknowns.charts[i]], image, pixel) ? kCoveredPrior : kPartialPrior;
     }
+    // The system falls apart into groups of charts joined by seams: each is solved on its
+    // own, in parallel, writing only its own texels (so the result does not depend on the
+    // thread count), and none waits for the slowest one's iterations. As one system, graz.wrl's
+    // 122k texels spent 15 s in the conjugate gradient, a third of its bake.
+    const std::vector<Coupled> groups = coupledGroups(rows, n);
+    std::vector<uint32_t> local_of(n);
+    for (const Coupled& group : groups)
+        for (size_t i = 0; i < group.unknowns.size(); ++i) local_of[group.unknowns[i]] = static_cast<uint32_t>(i);
     std::vector<std::array<double, 3>> solved(n);
-    for (int c = 0; c < 3; ++c) {
-        std::vector<double> x0(n), rhs(n, 0.0), delta;
-        for (size_t i = 0; i < n; ++i) {
-            const auto [atlas, pixel] = unknowns.texels[i];
-            x0[i] = lightmaps.images[atlas].rgb[3 * pixel + c];
+    std::vector<int> group_iterations(groups.size(), 0);
+    runner.forEach(groups.size(), 1, [&](size_t g) {
+        const Coupled& group = groups[g];
+        const size_t m = group.unknowns.size();
+        std::vector<Row> local_rows;
+        local_rows.reserve(group.rows.size());
+        for (const uint32_t r : group.rows) {
+            Row row = rows[r];
+            for (int k = 0; k < row.count; ++k) row.taps[k].unknown = local_of[row.taps[k].unknown];
+            local_rows.push_back(row);
         }
-        for (const Row& row : rows) {
-            double residual = row.target[c];
-            for (int k = 0; k < row.count; ++k) residual -= row.taps[k].weight * x0[row.taps[k].unknown];
-            for (int k = 0; k < row.count; ++k) rhs[row.taps[k].unknown] += row.weight * row.taps[k].weight * residual;
+        std::vector<double> local_prior(m);
+        for (size_t i = 0; i < m; ++i) local_prior[i] = prior[group.unknowns[i]];
+        for (int c = 0; c < 3; ++c) {
+            std::vector<double> x0(m), rhs(m, 0.0), delta;
+            for (size_t i = 0; i < m; ++i) {
+                const auto [atlas, pixel] = unknowns.texels[group.unknowns[i]];
+                x0[i] = lightmaps.images[atlas].rgb[3 * pixel + c];
+            }
+            for (const Row& row : local_rows) {
+                double residual = row.target[c];
+                for (int k = 0; k < row.count; ++k) residual -= row.taps[k].weight * x0[row.taps[k].unknown];
+                for (int k = 0; k < row.count; ++k) rhs[row.taps[k].unknown] += row.weight * row.taps[k].weight * residual;
+            }
+            group_iterations[g] += solveChannel(local_rows, local_prior, rhs, delta);
+            for (size_t i = 0; i < m; ++i) solved[group.unknowns[i]][c] = x0[i] + delta[i];
         }
-        stats.iterations += solveChannel(rows, prior, rhs, delta);
-        for (size_t i = 0; i < n; ++i) solved[i][c] = x0[i] + delta[i];
-    }
+    });
+    for (const int i : group_iterations) stats.iterations += i;
     for (size_t i = 0; i < n; ++i) {
         const auto [atlas, pixel] = unknowns.texels[i];
         LightmapImage& image = lightmaps.images[atlas];
