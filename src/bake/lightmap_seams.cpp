@@ -24,6 +24,9 @@ constexpr double kCoplanar = 1e-4;
 // Edge points per texel of edge length: a bilinear lookup along an edge is piecewise linear
 // between texel-centre crossings, so two points per texel pin every piece.
 constexpr double kSamplesPerTexel = 2.0;
+// Widest EdgeSample::span: with a tolerance, light that agrees at both ends of 8 samples (4
+// texels of edge) is taken as linear between them, as the texels' adaptive evaluation does.
+constexpr size_t kMaxEdgeSpan = 4;
 // Least-squares weights. Covered texels keep their evaluated value with weight 1; padding
 // texels are nearly free (a small pull keeps the system definite and the change minimal);
 // an edge lookup is pulled to the light there with weight 1 and a seam's two lookups to
@@ -249,6 +252,16 @@ std::vector<Coupled> coupledGroups(const std::vector<Row>& rows, size_t n) {
     return groups;
 }
 
+// EdgeSample::span over samples [run, end) of one edge, consecutive along it: sample i of the
+// run lies between i - d and i + d for d its lowest set bit, if both are in the run.
+void setEdgeSpans(std::vector<EdgeSample>& edges, size_t run) {
+    const size_t count = edges.size() - run;
+    for (size_t i = 1; i + 1 < count; ++i) {
+        const size_t d = i & (~i + 1);
+        if (d <= kMaxEdgeSpan && i + d < count) edges[run + i].span = static_cast<uint32_t>(d);
+    }
+}
+
 // Preconditioned (Jacobi) conjugate gradient on (P + sum w c c^T) delta = rhs, matrix-free.
 int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& rhs,
                  std::vector<double>& delta) {
@@ -352,26 +365,25 @@ ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout) {
     for (const BoundaryEdge& edge : edges) {
         const LightmapChart& chart = layout.charts[edge.chart];
         const int n = sampleCount(glm::length(edge.q - edge.p) * chart.texels_per_metre);
-        bool previous_kept = false;  // sample k - 1 of this edge is the last one in result.edges
+        size_t run = result.edges.size();  // the first of the consecutive samples kept so far
         for (int k = 0; k < n; ++k) {
             const double t = static_cast<double>(k) / (n - 1);
             const bool on_seam = std::any_of(edge.seamed.begin(), edge.seamed.end(), [t](const auto& interval) {
                 return t >= interval.first - 1e-9 && t <= interval.second + 1e-9;
             });
             if (on_seam) {
-                if (previous_kept && (k % 2) == 0) result.edges.back().between = false;  // its next sample is missing
-                previous_kept = false;
+                setEdgeSpans(result.edges, run);
+                run = result.edges.size();
                 continue;
             }
             EdgeSample sample = edgeSample(chart, edge, t);
-            sample.between = previous_kept && (k % 2) == 1 && k + 1 < n;
             if (k == 0 || k == n - 1) {
                 const auto it = seam_ends.find(pointKey(edge.chart, sample.p_world));
                 if (it != seam_ends.end()) sample.seam = it->second;
             }
             result.edges.push_back(sample);
-            previous_kept = true;
         }
+        setEdgeSpans(result.edges, run);
     }
     return result;
 }
@@ -397,8 +409,9 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
     }
     // A point seen with one normal is evaluated once: both sides of a cut through a flat
     // region, and the shared ends of consecutive boundary edges, ask for the same light.
-    // With a tolerance, samples between two others wait for them (second pass).
-    const auto deferred = [&](size_t q) { return tolerance > 0.0 && q < found.edges.size() && found.edges[q].between; };
+    // With a tolerance, samples between two others wait for them (later passes, widest
+    // spans first).
+    const auto deferred = [&](size_t q) { return tolerance > 0.0 && q < found.edges.size() && found.edges[q].span > 0; };
     std::map<std::array<double, 6>, size_t> distinct_ids;  // ordered: first-seen order is deterministic
     std::vector<size_t> distinct_of(queries.size(), SIZE_MAX);
     std::vector<const EdgeSample*> distinct;
@@ -426,23 +439,25 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
         double brightest_edge = 0.0;
         for (const DVec3& l : distinct_light) brightest_edge = std::max({brightest_edge, l.x, l.y, l.z});
         const double dark = kDarkEdge * brightest_edge;
-        std::vector<size_t> rest;
-        for (size_t q = 0; q < found.edges.size(); ++q) {
-            if (!deferred(q)) continue;
-            const DVec3 &before = light[q - 1], &after = light[q + 1];
-            bool agree = true;
-            for (int c = 0; c < 3; ++c)
-                agree = agree && std::fabs(before[c] - after[c]) <=
-                                     tolerance * std::max(0.5 * std::fabs(before[c] + after[c]), dark);
-            if (agree) light[q] = 0.5 * (before + after);
-            else rest.push_back(q);
+        for (size_t span = kMaxEdgeSpan; span > 0; span /= 2) {
+            std::vector<size_t> rest;
+            for (size_t q = 0; q < found.edges.size(); ++q) {
+                if (found.edges[q].span != span) continue;
+                const DVec3 &before = light[q - span], &after = light[q + span];
+                bool agree = true;
+                for (int c = 0; c < 3; ++c)
+                    agree = agree && std::fabs(before[c] - after[c]) <=
+                                         tolerance * std::max(0.5 * std::fabs(before[c] + after[c]), dark);
+                if (agree) light[q] = 0.5 * (before + after);
+                else rest.push_back(q);
+            }
+            std::vector<const EdgeSample*> points;
+            for (size_t q : rest) points.push_back(queries[q]);
+            std::vector<DVec3> rest_light;
+            evaluate(points, rest_light);
+            for (size_t k = 0; k < rest.size(); ++k) light[rest[k]] = rest_light[k];
+            stats.evaluations += rest.size();
         }
-        std::vector<const EdgeSample*> points;
-        for (size_t q : rest) points.push_back(queries[q]);
-        std::vector<DVec3> rest_light;
-        evaluate(points, rest_light);
-        for (size_t k = 0; k < rest.size(); ++k) light[rest[k]] = rest_light[k];
-        stats.evaluations += rest.size();
     }
     double brightest = 0.0;
     for (const DVec3& l : light) brightest = std::max({brightest, l.x, l.y, l.z});
