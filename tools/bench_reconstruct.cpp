@@ -7,7 +7,8 @@
 //                     [--skip-exhaustive-texels | --skip-exhaustive | --vertices-only] [--worst]
 //                     [--repeat N]
 // --skip-exhaustive: no exhaustive reference at all (timings only); --vertices-only: the
-// vertices, timed, no reference; --worst lists what is more than 30 % off (1 % floor);
+// vertices, timed, no reference; --worst lists the 30 worst vertices (1 % floor), and
+// for texels each mesh's RMS and share of the squared error, and the 30 worst texels (5 a mesh);
 // --repeat N bakes the vertices N times (the figures are per bake), so that a profiler sees
 // the reconstruction rather than the solve.
 // Texels: "links all" evaluates every covered texel with the reconstruction, "links
@@ -72,40 +73,71 @@ Error compare(size_t n, Get get) {
     return e;
 }
 
+// The chart holding texel (x, y) of atlas k, or null.
+const LightmapChart* chartAt(const LightmapLayout& layout, size_t k, int x, int y) {
+    for (const LightmapChart& c : layout.charts)
+        if (c.atlas == static_cast<int>(k) && x >= c.x && x < c.x + c.width && y >= c.y && y < c.y + c.height) return &c;
+    return nullptr;
+}
+
 Error compareTexels(const Lightmaps& fast, const Lightmaps& ref) {
     std::vector<std::pair<size_t, size_t>> covered;  // (image, texel)
     for (size_t k = 0; k < ref.images.size(); ++k)
         for (size_t t = 0; t < ref.images[k].state.size(); ++t)
             if (ref.images[k].state[t] == TexelState::Covered) covered.emplace_back(k, t);
-    if (g_list_worst) {
-        double brightest = 0.0;
-        for (const auto& [k, t] : covered) brightest = std::max(brightest, double(ref.images[k].rgb[3 * t]));
-        for (const auto& [k, t] : covered) {
-            const double a = fast.images[k].rgb[3 * t], b = ref.images[k].rgb[3 * t];
-            if (!(std::abs(a - b) / std::max(b, 0.01 * brightest) > 0.3)) continue;
-            const int x = static_cast<int>(t % ref.images[k].width), y = static_cast<int>(t / ref.images[k].width);
-            // The chart holding it: its mesh and the world point of the texel's centre.
-            std::string where;
-            for (const LightmapChart& c : ref.layout.charts)
-                if (c.atlas == static_cast<int>(k) && x >= c.x && x < c.x + c.width && y >= c.y && y < c.y + c.height) {
-                    const DVec3 p = c.worldPoint(c.min_plane + (DVec2(x - c.x, y - c.y) + 0.5) / c.texels_per_metre);
-                    char text[160];
-                    std::snprintf(text, sizeof text, " mesh %u at (%.3g %.3g %.3g) normal (%.2g %.2g %.2g)", c.mesh, p.x, p.y,
-                                  p.z, c.normal_world.x, c.normal_world.y, c.normal_world.z);
-                    where = text;
-                    break;
-                }
-            std::printf("  texel %zu (%d, %d): %g vs %g%s\n", k, x, y, a, b, where.c_str());
-        }
-    }
-    return compare(covered.size(), [&](size_t i, DVec3& a, DVec3& b) {
+    const auto get = [&](size_t i, DVec3& a, DVec3& b) {
         const auto [k, t] = covered[i];
         const float* fa = &fast.images[k].rgb[3 * t];
         const float* fb = &ref.images[k].rgb[3 * t];
         a = DVec3(fa[0], fa[1], fa[2]);
         b = DVec3(fb[0], fb[1], fb[2]);
         return true;
-    });
+    };
+    if (g_list_worst) {
+        double brightest = 0.0;
+        for (const auto& [k, t] : covered) brightest = std::max(brightest, double(ref.images[k].rgb[3 * t]));
+        // Per mesh: count, RMS of the red channel's error and its share of the whole sum of squares;
+        // then the 30 worst texels (at most 5 a mesh) with the world point of their centre.
+        struct Texel {
+            double error;
+            size_t index;
+            uint32_t mesh;
+            DVec3 p, n;
+        };
+        std::vector<Texel> all;
+        std::vector<double> sum2_of_mesh;
+        std::vector<size_t> count_of_mesh;
+        double sum2 = 0.0;
+        for (size_t i = 0; i < covered.size(); ++i) {
+            const auto [k, t] = covered[i];
+            const double a = fast.images[k].rgb[3 * t], b = ref.images[k].rgb[3 * t];
+            const double r = std::abs(a - b) / std::max(b, 0.01 * brightest);
+            const int x = static_cast<int>(t % ref.images[k].width), y = static_cast<int>(t / ref.images[k].width);
+            const LightmapChart* c = chartAt(fast.layout, k, x, y);
+            if (!c) continue;
+            const DVec3 p = c->worldPoint(c->min_plane + (DVec2(x - c->x, y - c->y) + 0.5) / c->texels_per_metre);
+            all.push_back({r, i, c->mesh, p, c->normal_world});
+            if (c->mesh >= sum2_of_mesh.size()) sum2_of_mesh.resize(c->mesh + 1), count_of_mesh.resize(c->mesh + 1);
+            sum2_of_mesh[c->mesh] += r * r;
+            count_of_mesh[c->mesh] += 1;
+            sum2 += r * r;
+        }
+        for (size_t m = 0; m < sum2_of_mesh.size(); ++m)
+            if (count_of_mesh[m] > 0)
+                std::printf("  mesh %zu: %zu texels rms %.4f share %.3f\n", m, count_of_mesh[m],
+                            std::sqrt(sum2_of_mesh[m] / count_of_mesh[m]), sum2 > 0 ? sum2_of_mesh[m] / sum2 : 0.0);
+        std::sort(all.begin(), all.end(), [](const Texel& a, const Texel& b) { return a.error > b.error || (a.error == b.error && a.index < b.index); });
+        std::vector<size_t> listed_of_mesh(sum2_of_mesh.size(), 0);
+        for (size_t i = 0, listed = 0; i < all.size() && listed < 30; ++i) {
+            if (listed_of_mesh[all[i].mesh]++ >= 5) continue;  // at most 5 a mesh
+            ++listed;
+            DVec3 a, b;
+            get(all[i].index, a, b);
+            std::printf("  texel %.3f: %g vs %g mesh %u at (%.4g %.4g %.4g) normal (%.2g %.2g %.2g)\n", all[i].error, a.x,
+                        b.x, all[i].mesh, all[i].p.x, all[i].p.y, all[i].p.z, all[i].n.x, all[i].n.y, all[i].n.z);
+        }
+    }
+    return compare(covered.size(), get);
 }
 
 }  // namespace
@@ -218,14 +250,25 @@ int main(int argc, char** argv) {
         b = DVec3(v_ref.values[vertices[i].first][vertices[i].second]);
         return true;
     });
-    if (g_list_worst)
-        for (const auto& [m, v] : vertices) {
+    if (g_list_worst) {
+        // The 30 worst vertices (red channel, the 1 % floor of the error figures).
+        double brightest = 0.0;
+        for (const auto& [m, v] : vertices) brightest = std::max(brightest, double(v_ref.values[m][v].x));
+        std::vector<std::pair<double, size_t>> order;
+        for (size_t i = 0; i < vertices.size(); ++i) {
+            const auto [m, v] = vertices[i];
             const double a = v_links.values[m][v].x, b = v_ref.values[m][v].x;
-            if (std::abs(a - b) > 0.3 * std::max(b, 0.01))
-                std::printf("  vertex %zu/%zu %s (%g %g %g): %g vs %g\n", m, v, scene->meshes[m].name.c_str(),
-                            scene->meshes[m].positions[v].x, scene->meshes[m].positions[v].y,
-                            scene->meshes[m].positions[v].z, a, b);
+            order.emplace_back(std::abs(a - b) / std::max(b, 0.01 * brightest), i);
         }
+        std::sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
+        for (size_t k = 0; k < std::min<size_t>(order.size(), 30); ++k) {
+            const auto [m, v] = vertices[order[k].second];
+            std::printf("  vertex %.3f %zu/%zu %s (%g %g %g): %g vs %g\n", order[k].first, m, v,
+                        scene->meshes[m].name.c_str(), scene->meshes[m].positions[v].x,
+                        scene->meshes[m].positions[v].y, scene->meshes[m].positions[v].z, v_links.values[m][v].x,
+                        v_ref.values[m][v].x);
+        }
+    }
     const double nv = static_cast<double>(std::max<size_t>(1, vertices.size()));
     std::printf("vertices %zu links_us_per_vertex %.1f (cpu %.1f) exhaustive_us_per_vertex %.1f rms %.4f worst %.4f\n",
                 vertices.size(), 1e6 * t_links / nv, 1e6 * cpu_links / nv, 1e6 * t_ref / nv, ev.rms, ev.worst);
@@ -241,7 +284,7 @@ int main(int argc, char** argv) {
         return links.irradiance(at.mesh, at.triangle, at.p_world, at.normal_world);
     };
     const IrradianceFunction exhaustive = [&](const SurfacePoint& at) {
-        return probeIrradiance(*solution, at.p_world, at.normal_world);
+        return probeIrradiance(*solution, at.p_world, at.normal_world, at.mesh);
     };
     start = std::chrono::steady_clock::now();
     cpu = cpuSeconds();

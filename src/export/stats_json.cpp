@@ -45,6 +45,7 @@ std::string formatStatsJson(const BakeReport& r) {
     out["cluster_links"] = s.cluster_links;
     out["clusters"] = s.clusters;
     out["roots"] = s.roots;
+    out["contact_cuts"] = s.contact_cuts;
     out["leaves"] = s.leaves;
     out["partial_links"] = s.partial_links;
     out["candidate_links"] = s.candidate_links;

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "geometry/polygon.h"
+#include "radiosity/contact_cuts.h"
 
 namespace radbake {
 namespace {
@@ -12,6 +13,11 @@ namespace {
 // Roots with more corners than this are split into their triangles instead (keeps the
 // fixed-size buffers of the form-factor code small).
 constexpr size_t kMaxRootVertices = 32;
+
+// Roots are cut where another polygon touches or crosses them within this fraction of the
+// scene's extent (contact_cuts.h): the gather's lift off touching surfaces (gather.h kLift),
+// above float rounding of coordinates.
+constexpr double kContactTolerance = 1e-5;
 
 // Boundary loop of a polygon given as triangles [t0, t1): the directed edges whose reverse
 // is absent, chained. Empty when they do not form exactly one loop.
@@ -147,6 +153,7 @@ void buildRootElements(const Scene& scene, Solution& solution) {
     // Polygons smaller than this are dust: (1e-7 of the scene's extent)^2, far below float
     // resolution of positions relative to the scene.
     const double min_area = 1e-14 * solution.scene_extent * solution.scene_extent;
+    std::vector<RootPolygon> roots;
     for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         size_t t0 = 0;
@@ -178,19 +185,20 @@ void buildRootElements(const Scene& scene, Solution& solution) {
                 }
             }
             if (as_one) {
-                addRoot(solution, scene, m, polygon, loop);
+                roots.push_back({m, polygon, std::move(loop)});
             } else {
                 for (size_t t = t0; t < t1; ++t) {
                     if (!(triangleArea(mesh, t) > min_area)) continue;
                     const UVec3& tri = mesh.triangles[t];
-                    const DVec3 corners[3] = {DVec3(mesh.positions[tri.x]), DVec3(mesh.positions[tri.y]),
-                                              DVec3(mesh.positions[tri.z])};
-                    addRoot(solution, scene, m, polygon, corners);
+                    roots.push_back({m, polygon, {DVec3(mesh.positions[tri.x]), DVec3(mesh.positions[tri.y]),
+                                                  DVec3(mesh.positions[tri.z])}});
                 }
             }
             t0 = t1;
         }
     }
+    solution.stats.contact_cuts = cutAtContacts(roots, kContactTolerance * solution.scene_extent, kMaxRootVertices);
+    for (const RootPolygon& root : roots) addRoot(solution, scene, root.mesh, root.polygon, root.loop);
     solution.root_count = static_cast<uint32_t>(solution.elements.size());
     solution.total_area = 0.0;
     for (const Element& e : solution.elements) solution.total_area += e.area;

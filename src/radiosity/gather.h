@@ -82,6 +82,16 @@ struct Gatherer {
     // link reconstruction turns it off below partly visible links: the solver refined them
     // until they carry little, and a piece whose rays disagree is still split.
     bool coarse_rule = true;
+    // The exhaustive gather's rules (the coarse rule, probe_visibility_ratio, its split
+    // depth) on light sources, without the coarse rule elsewhere (the link reconstruction,
+    // below partly visible links): a luminaire's penumbra carries the most light, and a point
+    // in it read with 2 x 2 rays to a whole piece of the lamp, split once, came out twice the
+    // exhaustive gather (scenes/paper/shadow.wrl's ground beside the beams).
+    bool coarse_rule_on_emitters = false;
+    bool coarseFor(bool emitter) const { return coarse_rule || (emitter && coarse_rule_on_emitters); }
+    // Inner elements opened as the coarse rule opens them (down to its ratio of radius to
+    // distance), leaves not split for it.
+    bool coarse_opening = false;
     // Without it, a partly visible piece is opened down to this radius / distance only
     // (with it: probe_visibility_ratio).
     double link_visibility_ratio = 0.05;
@@ -113,8 +123,8 @@ struct Gatherer {
     // A piece whose rays disagree (a shadow edge crosses it) is opened until its radius is
     // below probe_visibility_ratio x its distance: a fixed 2x2 grid would give steps of 1/4
     // of its light, and a penumbra narrower than the grid would be lost altogether.
-    bool fineEnough(const DVec3& centroid, double radius) const {
-        return radius <= (coarse_rule ? s.options.probe_visibility_ratio : link_visibility_ratio) *
+    bool fineEnough(const DVec3& centroid, double radius, bool coarse) const {
+        return radius <= (coarse ? s.options.probe_visibility_ratio : link_visibility_ratio) *
                              glm::length(centroid - point);
     }
     // Unanimous rays are trusted only on pieces below probe_visibility_coarse x distance: a
@@ -144,15 +154,16 @@ struct Gatherer {
         const bool partial = open > 0 && open < total;
         if (partial) suspect = kSuspectLevels;
         // Neither rule can split past these limits: skip the piece's geometry then.
-        const int coarse_splits = coarse_rule ? kMaxCoarseSplits : 0;
-        const bool suspect_splits = suspect > 0 && splits < max_visibility_splits;
+        const bool coarse = coarseFor(emitter);
+        const int coarse_splits = coarse ? kMaxCoarseSplits : 0;
+        const bool suspect_splits = suspect > 0 && splits < (coarse ? kMaxVisibilitySplits : max_visibility_splits);
         if (splits < coarse_splits || suspect_splits) {
             // The centroid and radius setElementGeometry would give, without the rest of it.
             const DVec3 centroid = polygonCentroid(loop);
             double radius = 0.0;
             for (const DVec3& p : loop) radius = std::max(radius, glm::length(p - centroid));
             const bool coarse_split = splits < coarse_splits && !coarseEnough(centroid, radius, emitter);
-            if (coarse_split || (suspect_splits && !fineEnough(centroid, radius))) {
+            if (coarse_split || (suspect_splits && !fineEnough(centroid, radius, coarse))) {
                 if (loop.size() == 4) {
                     QuadChildren children;
                     splitQuad(loop, children);
@@ -197,8 +208,9 @@ struct Gatherer {
         if (!above) return;  // wholly below the point's horizon
         const double distance = glm::length(e.centroid - p);
         const bool emitter = emitsMostOfItsLight(e);
-        const double opening = use_rays && coarse_rule ? std::min(s.options.probe_opening, coarseRatio(emitter))
-                                                       : s.options.probe_opening;
+        const bool coarse = coarseFor(emitter);
+        const double opening = use_rays && (coarse || coarse_opening) ? std::min(s.options.probe_opening, coarseRatio(emitter))
+                                                  : s.options.probe_opening;
         if (!e.isLeaf() && e.radius > opening * distance) {
             for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
             return;
@@ -221,7 +233,7 @@ struct Gatherer {
         }
         int open = 0, total = 0;
         castVisibility(poly.vertices, e.normal, open, total);
-        if (open > 0 && open < total && !fineEnough(e.centroid, e.radius)) {
+        if (open > 0 && open < total && !fineEnough(e.centroid, e.radius, coarse)) {
             // Partly hidden: the children carry their own radiosity, so open them.
             for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
             return;

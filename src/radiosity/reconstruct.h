@@ -5,8 +5,8 @@
 // cover, once, everything the solver let light the point), with exact point-to-polygon
 // form factors, each source opened like the exhaustive gather opens elements, and:
 //   - a link's own visibility where the solver knows it (1 proven by its shaft: no rays;
-//     0: nothing); for the others (partly visible, or found wholly visible by the solver's
-//     few rays, between which a shadow edge may pass) rays at the point where the source
+//     0 proven: nothing); for the others (partly visible, or found wholly visible or wholly
+//     hidden by the solver's few rays, between which a shadow edge may pass) rays at the point where the source
 //     may bring more than a small share of the point's light, the link's own visibility
 //     elsewhere;
 //   - cluster links likewise: a pairwise link's member pairs gathered like element links

@@ -1,7 +1,9 @@
 #include "radiosity/refine.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "core/memory.h"
 #include "geometry/parts.h"
@@ -30,6 +32,26 @@ struct Evaluation {
     bool classify_fell_back = false;  // ShaftResult::fell_back
 };
 
+// The visible fraction of a link from rays between the parts of its two elements that can
+// exchange light: each clipped to the half-space in front of the other's plane. Rays to the
+// whole polygons would also sample paths that carry no light and cross the elements' own
+// objects: a beam's end cap and the ground behind its plane read fully blocked, though the
+// strip of ground in front of the cap sees it.
+double linkVisibleFraction(const Solution& s, const Element& source, const Element& receiver, int samples,
+                           size_t* rays) {
+    const PolygonView from = polygonOf(s, source), to = polygonOf(s, receiver);
+    std::array<DVec3, kMaxClip> from_part, to_part;
+    const size_t from_count = from.vertices.size() <= kMaxClip - 2
+                                  ? clipAboveHorizon(to.centroid, to.normal, from.vertices, from_part.data())
+                                  : 0;
+    const size_t to_count = to.vertices.size() <= kMaxClip - 2
+                                ? clipAboveHorizon(from.centroid, from.normal, to.vertices, to_part.data())
+                                : 0;
+    if (from_count < 3 || to_count < 3) return s.rays->visibleFraction(from.vertices, to.vertices, samples, rays);
+    return s.rays->visibleFraction(std::span<const DVec3>(from_part.data(), from_count),
+                                   std::span<const DVec3>(to_part.data(), to_count), samples, rays);
+}
+
 QuadratureOptions quadratureOptions(const SolverOptions& options) {
     QuadratureOptions q;
     q.order = options.quadrature_order;
@@ -57,8 +79,7 @@ Evaluation evaluate(const RefineState& state, const PendingLink& link) {
     if (!(out.ff.form_factor > 0.0)) return out;
     if (state.options.visibility == LinkVisibility::Rays) {
         // The baseline without shafts: rays against the whole scene on every candidate link.
-        out.visibility = s.rays->visibleFraction(source.vertices, receiver.vertices,
-                                                 state.options.visibility_samples, &out.rays);
+        out.visibility = linkVisibleFraction(s, e, r, state.options.visibility_samples, &out.rays);
         out.state = out.visibility <= 0.0   ? LinkState::Occluded
                     : out.visibility >= 1.0 ? LinkState::Visible
                                             : LinkState::Partial;
@@ -122,20 +143,37 @@ double receiverIrradiance(const RefineState& state, uint32_t element) {
 // while that exceeds local_error_threshold x the receiver's whole irradiance H_R. Splittable
 // receivers are left to the power rule: applied to them too, the rule at 0.2 doubled the
 // Cornell Box's links (x5 on Shadow) for 0.1 % of L2 error.
-bool locallyInaccurate(const RefineState& state, uint32_t receiver, const Element& source, double spread) {
+// A source split already (for other links) whose children's light differs brings, read as
+// its mean, up to F (B_max - B_min) too much or too little: the rule counts that as well. A
+// sliver standing on a floor cut along it (contact_cuts.h) sees the floor's half at F = 0.5
+// from every point (no spread), and read its mean 40 % below the bright patch it stands in.
+bool locallyInaccurate(const RefineState& state, uint32_t receiver, const Element& source, double spread,
+                       double form_factor) {
     if (!state.local_active) return false;
     const Element& r = state.solution.elements[receiver];
     if (splittable(state, r) || !splittable(state, source)) return false;
     const double allowed = state.options.local_error_threshold * receiverIrradiance(state, receiver);
-    return spread * maxChannel(source.radiosity) > allowed;
+    double varies = spread * maxChannel(source.radiosity);
+    if (!source.isLeaf()) {
+        double lo = std::numeric_limits<double>::max(), hi = 0.0;
+        for (uint32_t c = 0; c < source.child_count; ++c) {
+            const double b = maxChannel(state.solution.elements[source.first_child + c].radiosity);
+            lo = std::min(lo, b);
+            hi = std::max(hi, b);
+        }
+        varies += form_factor * (hi - lo);
+    }
+    return varies > allowed;
 }
 
 // Either rule asks for a split (the min-area floor and the depth guard still stop it).
-bool needsRefinement(const RefineState& state, uint32_t receiver, uint32_t source, double spread) {
+// `form_factor`: the link's mean form factor without visibility.
+bool needsRefinement(const RefineState& state, uint32_t receiver, uint32_t source, double spread,
+                     double form_factor) {
     const Element& r = state.solution.elements[receiver];
     const Element& e = state.solution.elements[source];
     return linkError(state, r, e, spread) > state.thresholdFor(r.root) ||
-           locallyInaccurate(state, receiver, e, spread);
+           locallyInaccurate(state, receiver, e, spread, form_factor);
 }
 
 uint32_t findGroup(std::vector<uint32_t>& group, uint32_t i) {
@@ -350,7 +388,7 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
                         state.candidate_pool.push_back(std::move(ev.candidates));
                     }
                 }
-                if (needsRefinement(state, link.receiver, link.source, spread)) {
+                if (needsRefinement(state, link.receiver, link.source, spread, ev.ff.form_factor)) {
                     const bool split_r = splittable(state, r), split_e = splittable(state, e);
                     if (split_e && (e.area > r.area || !split_r)) {
                         const uint32_t count = ensureChildren(s, link.source);
@@ -390,9 +428,8 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
     std::vector<size_t> rays(needs_rays.size(), 0);
     state.runner.forEach(needs_rays.size(), 16, [&](size_t k) {
         const Link& link = s.links[needs_rays[k]];
-        visibility[k] = s.rays->visibleFraction(polygonOf(s, s.elements[link.source]).vertices,
-                                                polygonOf(s, s.elements[link.receiver]).vertices,
-                                                state.options.visibility_samples, &rays[k]);
+        visibility[k] = linkVisibleFraction(s, s.elements[link.source], s.elements[link.receiver],
+                                            state.options.visibility_samples, &rays[k]);
     });
     for (size_t k = 0; k < needs_rays.size(); ++k) {
         Link& link = s.links[needs_rays[k]];
@@ -413,7 +450,8 @@ std::vector<PendingLink> reopenLinks(RefineState& state) {
         const Element& e = s.elements[link.source];
         const LinkRecord& record = state.records[i];
         const bool can_split = splittable(state, r) || splittable(state, e);
-        if (can_split && link.visibility > 0.0f && needsRefinement(state, link.receiver, link.source, record.spread)) {
+        if (can_split && link.visibility > 0.0f &&
+            needsRefinement(state, link.receiver, link.source, record.spread, link.form_factor / link.visibility)) {
             // Re-evaluated from its own pair: its own candidate list is a superset of what
             // its sub-links need.
             reopened.push_back({link.receiver, link.source, record.candidates});

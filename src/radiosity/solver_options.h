@@ -93,6 +93,7 @@ struct SolveStats {
     bool converged = false;           // the last solve reached iteration_tolerance
     size_t leaves = 0;
     size_t roots = 0;
+    size_t contact_cuts = 0;          // root polygons cut where another touches or crosses them (contact_cuts.h)
     // Every evaluation of the oracle (candidate_links) ends one way, so that
     //   candidate_links = links + reopened_links + occluded_links + dropped_links + split_links:
     // kept (a final link, unless a later round reopens it: reopened_links), occluded (a shaft

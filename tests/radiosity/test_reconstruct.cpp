@@ -110,7 +110,10 @@ TEST_CASE("the link reconstruction gives the exhaustive gather's light within th
     // children's light differs were opened (gather.h).
     CHECK(c.rms < 0.015);
     CHECK(c.worst < 0.04);
-    CHECK(c.rays_links * 10 < c.rays_exhaustive);  // rays only where they can matter
+    // Rays only where they can matter: 9 times fewer measured (34 before a source that may
+    // bring 2 % of the point's light was opened as the exhaustive gather opens it, which took
+    // the worst point from 2.1 to 1.0 %).
+    CHECK(c.rays_links * 5 < c.rays_exhaustive);
 }
 
 TEST_CASE("the link reconstruction reads the light of cluster links") {
@@ -123,13 +126,13 @@ TEST_CASE("the link reconstruction reads the light of cluster links") {
     const Comparison c = compare(scene, *solution, links);
     MESSAGE("tiled room: ", c.points, " points, RMS ", c.rms, ", worst ", c.worst, ", rays ", c.rays_links, " vs ",
             c.rays_exhaustive);
-    CHECK(c.rms < 0.02);
-    // 12.2 % at (3.44, 1.56, 0), in the lamp's penumbra beside the floating box: there the
-    // exhaustive gather (its coarse rule finer on light sources, gather.h) is within 1.5 % of a
-    // converged gather and the link reconstruction 11 % above it, as it was before that rule
-    // (worst 14.9 % against a converged gather either way; 8.5 % against the old exhaustive one).
-    CHECK(c.worst < 0.13);
-    CHECK(c.rays_links * 10 < c.rays_exhaustive);
+    // 0.36 % and 7.4 % measured. The worst was 12.4 % (RMS 1.3 %), in the lamp's penumbra
+    // beside the floating box, before light sources were read with the exhaustive gather's
+    // rules there (gather.h coarse_rule_on_emitters).
+    CHECK(c.rms < 0.01);
+    CHECK(c.worst < 0.1);
+    // 5.1 times fewer rays measured; 11 without those rules.
+    CHECK(c.rays_links * 3 < c.rays_exhaustive);
 }
 
 TEST_CASE("the link reconstruction does not depend on the thread count it was built with") {
@@ -167,7 +170,8 @@ TEST_CASE("a point is found in the leaf element that holds it") {
             const Element& e = solution->elements[leaf];
             CHECK(e.isLeaf());
             CHECK(e.mesh == 0);
-            CHECK(pointPolygonDistance(p, polygonOf(*solution, e)) < 1e-9);
+            // On a cut along the block (contact_cuts.h) either piece will do: leafAt's tolerance.
+            CHECK(pointPolygonDistance(p, polygonOf(*solution, e)) <= 1e-6 * e.radius);
         }
     CHECK(links.leafAt(99, 0, DVec3(0.0)) == kNoElement);
 }

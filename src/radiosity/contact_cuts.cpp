@@ -1,0 +1,233 @@
+#include "radiosity/contact_cuts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "geometry/polygon.h"
+
+namespace radbake {
+namespace {
+
+// A bounding-box tree over the polygons (median split of the box centres on the widest axis;
+// ties by index, so the same polygons give the same tree), for the touching pairs.
+struct BoxTree {
+    struct Node {
+        Aabb box;
+        uint32_t first = 0, count = 0;  // leaf: order[first .. first + count)
+        uint32_t left = 0, right = 0;   // inner: children
+    };
+    static constexpr uint32_t kLeafSize = 8;
+    std::vector<Node> nodes;
+    std::vector<uint32_t> order;
+    const std::vector<Aabb>* boxes = nullptr;
+
+    explicit BoxTree(const std::vector<Aabb>& b) : boxes(&b) {
+        order.resize(b.size());
+        std::iota(order.begin(), order.end(), 0u);
+        if (!b.empty()) build(0, static_cast<uint32_t>(b.size()));
+    }
+
+    uint32_t build(uint32_t first, uint32_t count) {
+        const uint32_t index = static_cast<uint32_t>(nodes.size());
+        nodes.push_back({});
+        Aabb box, centres;
+        for (uint32_t k = first; k < first + count; ++k) {
+            box.add((*boxes)[order[k]]);
+            centres.add((*boxes)[order[k]].center());
+        }
+        nodes[index].box = box;
+        if (count <= kLeafSize) {
+            nodes[index].first = first;
+            nodes[index].count = count;
+            return index;
+        }
+        const DVec3 extent = centres.extent();
+        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+        const uint32_t half = count / 2;
+        std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
+                         [&](uint32_t a, uint32_t b) {
+                             const double ca = (*boxes)[a].center()[axis], cb = (*boxes)[b].center()[axis];
+                             return ca != cb ? ca < cb : a < b;
+                         });
+        const uint32_t left = build(first, half);
+        const uint32_t right = build(first + half, count - half);
+        nodes[index].left = left;
+        nodes[index].right = right;
+        return index;
+    }
+
+    template <class F>
+    void overlapping(const Aabb& query, F&& f) const {
+        if (nodes.empty()) return;
+        std::vector<uint32_t> stack{0};
+        while (!stack.empty()) {
+            const Node& node = nodes[stack.back()];
+            stack.pop_back();
+            if (!overlaps(node.box, query)) continue;
+            if (node.count > 0) {
+                for (uint32_t k = node.first; k < node.first + node.count; ++k)
+                    if (overlaps((*boxes)[order[k]], query)) f(order[k]);
+            } else {
+                stack.push_back(node.right);
+                stack.push_back(node.left);
+            }
+        }
+    }
+
+    static bool overlaps(const Aabb& a, const Aabb& b) {
+        return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
+               a.min.z <= b.max.z && b.min.z <= a.max.z;
+    }
+};
+
+struct Cut {
+    Plane plane;   // the touching polygon's plane
+    DVec3 a, b;    // the segment where it meets the cut polygon's plane
+};
+
+// A polygon that rises less than this fraction of the cut polygon's size from its plane is
+// not cut along: it hides and separates nothing there (a sliver 3e-6 high standing on a 3 m
+// floor), and the cut would only change the floor's discretisation.
+constexpr double kMinRise = 1e-3;
+
+// Where convex polygon `q` meets the plane `p` (within tolerance): the segment from a to b.
+// False when it does not, only at a point, or q rises less than `min_rise` from the plane.
+bool meetingSegment(const Plane& p, std::span<const DVec3> q, const DVec3& line, double tolerance, double min_rise,
+                    DVec3& a, DVec3& b) {
+    double rise = 0.0;
+    for (const DVec3& v : q) rise = std::max(rise, std::abs(p.eval(v)));
+    if (!(rise > min_rise)) return false;
+    double lo = INFINITY, hi = -INFINITY;
+    const auto add = [&](const DVec3& x) {
+        const double t = glm::dot(line, x);
+        if (t < lo) lo = t, a = x;
+        if (t > hi) hi = t, b = x;
+    };
+    const size_t n = q.size();
+    for (size_t i = 0; i < n; ++i) {
+        const DVec3 &u = q[i], &v = q[(i + 1) % n];
+        const double du = p.eval(u), dv = p.eval(v);
+        if (std::abs(du) <= tolerance) add(u - du * p.normal);
+        if ((du > tolerance && dv < -tolerance) || (du < -tolerance && dv > tolerance))
+            add(u + (du / (du - dv)) * (v - u));
+    }
+    return hi - lo > tolerance;
+}
+
+// The length of segment a-b inside the convex loop (counter-clockwise around `normal`) shrunk
+// by `inset` (Cyrus-Beck clipping against each edge's inward half-plane).
+double lengthInside(std::span<const DVec3> loop, const DVec3& normal, const DVec3& a, const DVec3& b, double inset) {
+    double t0 = 0.0, t1 = 1.0;
+    const DVec3 d = b - a;
+    const size_t n = loop.size();
+    for (size_t i = 0; i < n && t0 < t1; ++i) {
+        const DVec3 edge = loop[(i + 1) % n] - loop[i];
+        const double len = glm::length(edge);
+        if (!(len > 0.0)) continue;
+        const DVec3 inward = glm::cross(normal, edge) / len;
+        const double g0 = glm::dot(inward, a - loop[i]) - inset, slope = glm::dot(inward, d);
+        if (slope == 0.0) {
+            if (g0 < 0.0) return 0.0;
+        } else if (slope > 0.0) {
+            t0 = std::max(t0, -g0 / slope);
+        } else {
+            t1 = std::min(t1, -g0 / slope);
+        }
+    }
+    return t1 > t0 ? (t1 - t0) * glm::length(d) : 0.0;
+}
+
+// The parts of a convex loop in front of and behind a plane (order kept, so both stay
+// counter-clockwise), crossing points shared.
+void splitByPlane(std::span<const DVec3> loop, const Plane& plane, std::vector<DVec3>& front,
+                  std::vector<DVec3>& back) {
+    front.clear();
+    back.clear();
+    const size_t n = loop.size();
+    for (size_t i = 0; i < n; ++i) {
+        const DVec3 &u = loop[i], &v = loop[(i + 1) % n];
+        const double du = plane.eval(u), dv = plane.eval(v);
+        if (du >= 0.0) front.push_back(u);
+        if (du <= 0.0) back.push_back(u);
+        if ((du > 0.0 && dv < 0.0) || (du < 0.0 && dv > 0.0)) {
+            const DVec3 x = u + (du / (du - dv)) * (v - u);
+            front.push_back(x);
+            back.push_back(x);
+        }
+    }
+}
+
+}  // namespace
+
+size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_t max_vertices) {
+    const size_t n = polygons.size();
+    std::vector<Aabb> boxes(n);
+    std::vector<Plane> planes(n);
+    for (size_t i = 0; i < n; ++i) {
+        for (const DVec3& p : polygons[i].loop) boxes[i].add(p);
+        boxes[i].min -= DVec3(tolerance);
+        boxes[i].max += DVec3(tolerance);
+        planes[i] = planeFromPolygon(polygons[i].loop);
+    }
+    const BoxTree tree(boxes);
+    std::vector<RootPolygon> out;
+    out.reserve(n);
+    size_t cuts_made = 0;
+    std::vector<uint32_t> others;
+    std::vector<Cut> cuts;
+    std::vector<std::vector<DVec3>> pieces, next;
+    std::vector<DVec3> front, back;
+    for (size_t i = 0; i < n; ++i) {
+        const RootPolygon& p = polygons[i];
+        const Plane& plane = planes[i];
+        others.clear();
+        tree.overlapping(boxes[i], [&](uint32_t j) {
+            if (j != i) others.push_back(j);
+        });
+        std::sort(others.begin(), others.end());
+        cuts.clear();
+        const double min_rise = kMinRise * 0.5 * glm::length(boxes[i].extent());
+        for (const uint32_t j : others) {
+            const DVec3 line = glm::cross(plane.normal, planes[j].normal);
+            if (!(glm::length(line) > 1e-6)) continue;  // parallel: in one plane, or apart
+            Cut cut{planes[j], {}, {}};
+            if (!meetingSegment(plane, polygons[j].loop, glm::normalize(line), tolerance, min_rise, cut.a, cut.b))
+                continue;
+            if (lengthInside(p.loop, plane.normal, cut.a, cut.b, tolerance) > tolerance) cuts.push_back(cut);
+        }
+        if (cuts.empty()) {
+            out.push_back(p);  // a copy: later polygons still meet this one
+            continue;
+        }
+        const double min_area = 1e-6 * polygonArea(p.loop);
+        pieces.assign(1, p.loop);
+        for (const Cut& cut : cuts) {
+            next.clear();
+            for (auto& piece : pieces) {
+                bool split = false;
+                if (lengthInside(piece, plane.normal, cut.a, cut.b, tolerance) > tolerance) {
+                    splitByPlane(piece, cut.plane, front, back);
+                    front = removeCollinear(front, 1e-3 * tolerance);
+                    back = removeCollinear(back, 1e-3 * tolerance);
+                    split = front.size() >= 3 && back.size() >= 3 && front.size() <= max_vertices &&
+                            back.size() <= max_vertices && polygonArea(front) > min_area &&
+                            polygonArea(back) > min_area;
+                }
+                if (split) {
+                    next.push_back(front);
+                    next.push_back(back);
+                    ++cuts_made;
+                } else {
+                    next.push_back(std::move(piece));
+                }
+            }
+            std::swap(pieces, next);
+        }
+        for (auto& piece : pieces) out.push_back({p.mesh, p.polygon, std::move(piece)});
+    }
+    polygons = std::move(out);
+    return cuts_made;
+}
+
+}  // namespace radbake

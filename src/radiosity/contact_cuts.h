@@ -1,0 +1,33 @@
+#pragma once
+// Root polygons cut along the lines where another surface touches or crosses them.
+//
+// A floor polygon partly under a block that stands on it, or a beam's side face partly below
+// the ground it goes into, is otherwise one element whose radiosity is the mean over a lit
+// part and a part nothing can see. Whatever sees the lit part then reads it too dark twice
+// over (the mean, and rays that find the hidden rest blocked): a vertex on a block's bottom
+// edge came out about half its path-traced value. And the element's own few visibility
+// samples can all land on the hidden part: the strip of a beam above the ground read black.
+// Cut along the contact, each piece is lit or hidden as a whole, and refinement needs no
+// elements at the scale of the contact to find the line.
+#include <cstdint>
+#include <vector>
+
+#include "geometry/types.h"
+
+namespace radbake {
+
+struct RootPolygon {
+    uint32_t mesh = 0;
+    uint32_t polygon = 0;
+    std::vector<DVec3> loop;  // convex, planar, counter-clockwise around its normal
+};
+
+// Replaces each polygon that another one touches or crosses (along a segment that enters
+// its interior by more than `tolerance`, the other rising at least 1e-3 of its size from its
+// plane) by its pieces on either side of that polygon's plane, in place and in order (a polygon's pieces follow each other). Polygons sharing only
+// an edge (a room's corner, a box's own faces) or lying in one plane are left whole. Pieces
+// stay convex, at most `max_vertices` corners. Returns the number of cuts made.
+// Deterministic; O(n log n) plus the touching pairs.
+size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_t max_vertices);
+
+}  // namespace radbake

@@ -1,0 +1,127 @@
+// Why a surface point reads what it reads (issue 12/13 diagnosis): solves SCENE, finds the
+// leaf element holding the world point on mesh M (the triangle nearest to it) and prints the
+// leaf, its ancestors and every link that reaches them (source, form factor, visibility,
+// whether rays sampled it), then the point's irradiance from the link reconstruction and from
+// the exhaustive gather.
+//   explain_point SCENE MESH X Y Z NX NY NZ [--quality medium] [--threads 0]
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "radbake.h"
+#include "radiosity/elements.h"
+#include "radiosity/form_factor.h"
+#include "radiosity/gather.h"
+#include "radiosity/reconstruct.h"
+
+using namespace radbake;
+
+int main(int argc, char** argv) {
+    if (argc < 9) {
+        std::fprintf(stderr, "usage: explain_point SCENE MESH X Y Z NX NY NZ [--quality Q] [--threads N]\n");
+        return 2;
+    }
+    const std::string path = argv[1];
+    const uint32_t mesh_index = static_cast<uint32_t>(std::atoi(argv[2]));
+    const DVec3 p(std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]));
+    const DVec3 n = glm::normalize(DVec3(std::atof(argv[6]), std::atof(argv[7]), std::atof(argv[8])));
+    std::string quality = "medium";
+    int threads = 0;
+    for (int i = 9; i + 1 < argc; i += 2) {
+        const std::string key = argv[i];
+        if (key == "--quality") quality = argv[i + 1];
+        else if (key == "--threads") threads = std::atoi(argv[i + 1]);
+    }
+    Diagnostics diagnostics;
+    diagnostics.sink = [](const Diagnostic& d) {
+        if (d.severity == Severity::Error) std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str());
+    };
+    const auto scene = importScene(path, ImportOptions{}, diagnostics);
+    if (!scene || mesh_index >= scene->meshes.size()) return 1;
+    const Quality q = quality == "draft" ? Quality::Draft
+                      : quality == "high" ? Quality::High
+                      : quality == "reference" ? Quality::Reference
+                                              : Quality::Medium;
+    const BakeOptions preset = BakeOptions::forQuality(q);
+    Progress progress(false);
+    ParallelRunner runner(Threading{.threads = threads});
+    const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
+    const auto solution = solveRadiosity(*scene, parts, preset.solver, runner, progress, diagnostics);
+    if (!solution) return 1;
+    const Solution& s = *solution;
+    // The triangle of the mesh nearest to p.
+    const Mesh& mesh = scene->meshes[mesh_index];
+    uint32_t triangle = 0;
+    double best = INFINITY;
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const DVec3 corners[3] = {DVec3(mesh.positions[mesh.triangles[t].x]), DVec3(mesh.positions[mesh.triangles[t].y]),
+                                  DVec3(mesh.positions[mesh.triangles[t].z])};
+        const DVec3 cr = glm::cross(corners[1] - corners[0], corners[2] - corners[0]);
+        if (!(glm::length(cr) > 0.0)) continue;
+        PolygonView tri;
+        tri.vertices = corners;
+        tri.normal = glm::normalize(cr);
+        const double d = pointPolygonDistance(p, tri);
+        if (d < best) best = d, triangle = t;
+    }
+    const LinkReconstruction links(s, runner);
+    const uint32_t leaf = links.leafAt(mesh_index, triangle, p);
+    std::printf("triangle %u (distance %g), leaf %u\n", triangle, best, leaf);
+    const auto describe = [&](uint32_t e) {
+        const Element& el = s.elements[e];
+        std::printf("element %u mesh %u polygon %u depth %u area %.4g centroid (%.4g %.4g %.4g) normal (%.2g %.2g %.2g) "
+                    "B %.4g E %.4g\n",
+                    e, el.mesh, el.polygon, el.depth, el.area, el.centroid.x, el.centroid.y, el.centroid.z, el.normal.x,
+                    el.normal.y, el.normal.z, el.radiosity.x, el.gathered.x);
+    };
+    double sum = 0.0;
+    for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent) {
+        std::printf("-- ");
+        describe(a);
+        for (const Link& link : s.links) {
+            if (link.receiver != a) continue;
+            const Element& src = s.elements[link.source];
+            // What the source brings at the point, gathered as the reconstruction gathers a
+            // partly visible link (rays at the point), and unoccluded.
+            const double lift = gather::kLift * s.scene_extent;
+            gather::Gatherer g{.s = s, .point = p, .normal = n, .origin = p + lift * n, .lift = lift,
+                               .coarse_rule = false, .coarse_rule_on_emitters = true, .max_visibility_splits = 1};
+            g.visit(link.source);
+            const double with_rays = g.sum.x;
+            g.sum = DVec3(0.0);
+            g.use_rays = false;
+            g.visit(link.source);
+            std::printf("   from %u (mesh %u, centroid %.3g %.3g %.3g, area %.3g, B %.4g): F %.4g V %.3f%s -> %.4g;"
+                        " at the point %.4g (unoccluded %.4g)\n",
+                        link.source, src.mesh, src.centroid.x, src.centroid.y, src.centroid.z, src.area, src.radiosity.x,
+                        link.form_factor, link.visibility, link.by_rays ? " rays" : "",
+                        link.form_factor * src.radiosity.x, with_rays, g.sum.x);
+            sum += link.form_factor * src.radiosity.x;
+        }
+    }
+    std::printf("element links' gathered (red) %.5g; cluster links %zu in the solution\n", sum, s.cluster_links.size());
+    // The exhaustive gather's share from each root (more than 1 % of the point's total).
+    {
+        const DVec3 total = probeIrradiance(s, p, n, mesh_index);
+        const double lift = gather::kLift * s.scene_extent;
+        const DVec3 point = gather::liftOffSurfaces(s, p, lift);
+        for (uint32_t r = 0; r < s.root_count; ++r) {
+            gather::Gatherer g{.s = s, .point = point, .normal = n, .origin = point + lift * n, .lift = lift,
+                               .use_rays = s.rays != nullptr};
+            g.visit(r);
+            if (g.sum.x > 0.01 * total.x) {
+                std::printf("   exhaustive from root %u: %.4g  ", r, g.sum.x);
+                const Element& el = s.elements[r];
+                std::printf("(mesh %u, centroid %.3g %.3g %.3g, normal %.2g %.2g %.2g, B %.4g)\n", el.mesh,
+                            el.centroid.x, el.centroid.y, el.centroid.z, el.normal.x, el.normal.y, el.normal.z,
+                            el.radiosity.x);
+            }
+        }
+    }
+    const DVec3 h_links = links.irradiance(mesh_index, triangle, p, n);
+    const DVec3 h_exhaustive = probeIrradiance(s, p, n, mesh_index);
+    std::printf("H links %.5g %.5g %.5g\nH exhaustive %.5g %.5g %.5g\n", h_links.x, h_links.y, h_links.z,
+                h_exhaustive.x, h_exhaustive.y, h_exhaustive.z);
+    return 0;
+}
