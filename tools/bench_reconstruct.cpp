@@ -15,6 +15,7 @@
 // adaptive" with the quality's --texel-tolerance as bakes do; both against every texel
 // evaluated exhaustively (the --texel-tolerance 0 bake).
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -280,8 +281,15 @@ int main(int argc, char** argv) {
     LightmapLayout layout;
     if (!packLightmapCharts(buildLightmapCharts(*scene, options), options, layout, diagnostics)) return 1;
     const LinkReconstruction links(*solution, runner);
+    // Work done, deterministic where times are not (a shared machine): rays and point form
+    // factors over every evaluated texel.
+    std::atomic<size_t> texel_rays{0}, texel_form_factors{0};
     const IrradianceFunction fast = [&](const SurfacePoint& at) {
-        return links.irradiance(at.mesh, at.triangle, at.p_world, at.normal_world);
+        ProbeCounters counters;
+        const DVec3 h = links.irradianceCounted(at.mesh, at.triangle, at.p_world, at.normal_world, counters);
+        texel_rays += counters.rays;
+        texel_form_factors += counters.form_factors;
+        return h;
     };
     const IrradianceFunction exhaustive = [&](const SurfacePoint& at) {
         return probeIrradiance(*solution, at.p_world, at.normal_world, at.mesh);
@@ -290,16 +298,21 @@ int main(int argc, char** argv) {
     cpu = cpuSeconds();
     const Lightmaps all = evaluateLightmaps(layout, fast, options.padding, runner, 0.0);
     const double t_all = seconds(start), cpu_all = cpuSeconds() - cpu;
+    const double rays_all = static_cast<double>(texel_rays), form_factors_all = static_cast<double>(texel_form_factors);
     start = std::chrono::steady_clock::now();
     cpu = cpuSeconds();
     const Lightmaps adaptive = evaluateLightmaps(layout, fast, options.padding, runner, preset.lightmaps.texel_tolerance);
     const double t_adaptive = seconds(start), cpu_adaptive = cpuSeconds() - cpu;
+    const double rays_adaptive = static_cast<double>(texel_rays) - rays_all,
+                 form_factors_adaptive = static_cast<double>(texel_form_factors) - form_factors_all;
     const double covered = static_cast<double>(std::max<size_t>(1, all.covered_texels));
     std::printf("texel_density %g covered_texels %zu\n", density, all.covered_texels);
-    std::printf("links all:      %.1f us per covered texel (cpu %.1f)\n", 1e6 * t_all / covered, 1e6 * cpu_all / covered);
-    std::printf("links adaptive: %.1f us per covered texel (cpu %.1f; tolerance %g, %zu evaluated)\n",
+    std::printf("links all:      %.1f us per covered texel (cpu %.1f; rays %.1f, form factors %.1f)\n",
+                1e6 * t_all / covered, 1e6 * cpu_all / covered, rays_all / covered, form_factors_all / covered);
+    std::printf("links adaptive: %.1f us per covered texel (cpu %.1f; tolerance %g, %zu evaluated; rays %.1f, form "
+                "factors %.1f)\n",
                 1e6 * t_adaptive / covered, 1e6 * cpu_adaptive / covered, preset.lightmaps.texel_tolerance,
-                adaptive.evaluated_texels);
+                adaptive.evaluated_texels, rays_adaptive / covered, form_factors_adaptive / covered);
     if (!exhaustive_texels) return 0;
     start = std::chrono::steady_clock::now();
     const Lightmaps ref = evaluateLightmaps(layout, exhaustive, options.padding, runner, 0.0);

@@ -140,10 +140,11 @@ struct Gatherer {
     // radiosity is uniform over it).
     // `suspect`: levels a piece is still split below a partial ancestor though its own rays
     // agree (an edge within a quarter side of a piece's border passes between its rays).
+    // `known_f`: the piece's form factor when the caller has it (>= 0).
     void gatherPiece(std::span<const DVec3> loop, const DVec3& loop_normal, const DVec3& b, int splits,
-                     int suspect, bool emitter) {
-        const double f = piecePointFormFactor(point, normal, loop, loop_normal);
-        if (counters) ++counters->form_factors;
+                     int suspect, bool emitter, double known_f = -1.0) {
+        const double f = known_f >= 0.0 ? known_f : piecePointFormFactor(point, normal, loop, loop_normal);
+        if (counters && known_f < 0.0) ++counters->form_factors;
         if (!(f > 0.0)) return;
         if (!use_rays) {
             sum += f * b;
@@ -197,7 +198,13 @@ struct Gatherer {
         return (hi - lo) * e.radius > kSmoothOpening * maxChannel(e.radiosity) * distance;
     }
 
+    // The form factor of the next element visited, when the caller has computed it
+    // (piecePointFormFactor at this point and normal; -1: not known). Used once.
+    double known_form_factor = -1.0;
+
     void visit(uint32_t index) {
+        const double known_f = known_form_factor;
+        known_form_factor = -1.0;
         const Element& e = s.elements[index];
         if (!(maxChannel(e.radiosity) > 0.0)) return;  // B >= 0: an inner zero means all zero
         const PolygonView poly = polygonOf(s, e);
@@ -216,7 +223,7 @@ struct Gatherer {
             return;
         }
         if (e.isLeaf()) {
-            gatherPiece(poly.vertices, e.normal, e.radiosity, 0, 0, emitter);
+            gatherPiece(poly.vertices, e.normal, e.radiosity, 0, 0, emitter, known_f);
             return;
         }
         const bool varies = radiosityVaries(e, distance);
@@ -224,8 +231,8 @@ struct Gatherer {
             for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
             return;
         }
-        const double f = piecePointFormFactor(p, normal, poly.vertices, e.normal);
-        if (counters) ++counters->form_factors;
+        const double f = known_f >= 0.0 ? known_f : piecePointFormFactor(p, normal, poly.vertices, e.normal);
+        if (counters && known_f < 0.0) ++counters->form_factors;
         if (!(f > 0.0)) return;
         if (!use_rays) {
             sum += f * e.radiosity;

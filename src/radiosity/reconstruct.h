@@ -57,8 +57,10 @@ private:
                    ProbeCounters* counters) const;
     struct PendingSource {
         uint32_t source;  // element
+        double form_factor;  // from the point, unoccluded
         double light;     // f B (max channel), unoccluded
         DVec3 fallback;   // its light without rays
+        bool partial;     // its link's rays disagreed (0 < visibility < 1)
     };
     // f(source member, kernel, link) for every member pair of a pairwise cluster link that
     // reaches `root` and carries light, in a fixed order.

@@ -110,10 +110,10 @@ TEST_CASE("the link reconstruction gives the exhaustive gather's light within th
     // children's light differs were opened (gather.h).
     CHECK(c.rms < 0.015);
     CHECK(c.worst < 0.04);
-    // Rays only where they can matter: 9 times fewer measured (34 before a source that may
-    // bring 2 % of the point's light was opened as the exhaustive gather opens it, which took
-    // the worst point from 2.1 to 1.0 %).
-    CHECK(c.rays_links * 5 < c.rays_exhaustive);
+    // Rays only where they can matter: 24 times fewer measured (34 before a partly visible
+    // source that may bring 2 % of the point's light was opened as the exhaustive gather
+    // opens it, which took the worst point from 2.1 to 1.3 %).
+    CHECK(c.rays_links * 10 < c.rays_exhaustive);
 }
 
 TEST_CASE("the link reconstruction reads the light of cluster links") {
@@ -131,8 +131,8 @@ TEST_CASE("the link reconstruction reads the light of cluster links") {
     // rules there (gather.h coarse_rule_on_emitters).
     CHECK(c.rms < 0.01);
     CHECK(c.worst < 0.1);
-    // 5.1 times fewer rays measured; 11 without those rules.
-    CHECK(c.rays_links * 3 < c.rays_exhaustive);
+    // 6.7 times fewer rays measured; 11 without those rules.
+    CHECK(c.rays_links * 4 < c.rays_exhaustive);
 }
 
 TEST_CASE("the link reconstruction does not depend on the thread count it was built with") {
