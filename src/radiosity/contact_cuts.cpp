@@ -91,6 +91,14 @@ struct Cut {
 // floor), and the cut would only change the floor's discretisation.
 constexpr double kMinRise = 1e-3;
 
+// A cut is made only when each side keeps at least this fraction of the polygon's area: a
+// piece this small moves the polygon's mean light by at most as much. Measured with
+// `radbake bake --no-lightmaps` (house.wrl from ../shared/scenes): at 1e-6 its 2,497 roots
+// became 6,073 and the solve took 658 iterations instead of 34 (5x the CPU time); at 0.02,
+// 3,647 roots, 60 iterations, 2.2x the CPU time of no cuts; the tessellated Cornell box's
+// vertices 2.97 % RMS against 2.60 % (0.1: 3.7 %, its blocks' feet uncut).
+constexpr double kMinPieceFraction = 0.02;
+
 // Where convex polygon `q` meets the plane `p` (within tolerance): the segment from a to b.
 // False when it does not, only at a point, or q rises less than `min_rise` from the plane.
 bool meetingSegment(const Plane& p, std::span<const DVec3> q, const DVec3& line, double tolerance, double min_rise,
@@ -200,7 +208,7 @@ size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_
             out.push_back(p);  // a copy: later polygons still meet this one
             continue;
         }
-        const double min_area = 1e-6 * polygonArea(p.loop);
+        const double min_area = kMinPieceFraction * polygonArea(p.loop);
         pieces.assign(1, p.loop);
         for (const Cut& cut : cuts) {
             next.clear();
