@@ -93,11 +93,13 @@ constexpr double kMinRise = 1e-3;
 
 // A cut is made only when each side keeps at least this fraction of the polygon's area: a
 // piece this small moves the polygon's mean light by at most as much. Measured with
-// `radbake bake --no-lightmaps` (house.wrl from ../shared/scenes): at 1e-6 its 2,497 roots
-// became 6,073 and the solve took 658 iterations instead of 34 (5x the CPU time); at 0.02,
-// 3,647 roots, 60 iterations, 2.2x the CPU time of no cuts; the tessellated Cornell box's
-// vertices 2.97 % RMS against 2.60 % (0.1: 3.7 %, its blocks' feet uncut).
-constexpr double kMinPieceFraction = 0.02;
+// `radbake bake --no-lightmaps` on house.wrl from ../shared/scenes (2,497 roots, 34
+// iterations, 2.9 CPU s without cuts): at 1e-6 (every crossing) 6,073 roots and 658
+// iterations (15.6 s); 0.005: 667 iterations; 0.01: 3,857 roots, 91 iterations, 7.2 s; 0.02:
+// 60 iterations, 6.5 s. Texels against the exhaustive gather on scenes/paper/duplex.wrl
+// (tools/bench_reconstruct): 1.0 % at 1e-6, 1.6 % at 0.01, 2.1 % at 0.02; the tessellated
+// Cornell box's vertices against their path-traced reference 2.60, 2.77 and 2.97 % RMS.
+constexpr double kMinPieceFraction = 0.01;
 
 // Where convex polygon `q` meets the plane `p` (within tolerance): the segment from a to b.
 // False when it does not, only at a point, or q rises less than `min_rise` from the plane.
