@@ -233,7 +233,6 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
                        .lift = lift,
                        .counters = counters,
                        .coarse_rule = false,
-                       .coarse_rule_on_emitters = true,
                        .link_visibility_ratio = kLinkVisibilityRatio,
                        .max_visibility_splits = kLinkVisibilitySplits};
     std::vector<PendingSource> pending;
@@ -262,6 +261,10 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
             g.use_rays = true;
             g.coarse_opening = p.partial && p.light > kCoarseShare * total;
             g.known_form_factor = p.form_factor;
+            // A lamp behind a link whose rays disagreed: its penumbra is the sharpest light
+            // there is. (Behind every link not proven visible, house.wrl's vertices cast 1,176
+            // rays each instead of 357, for shadow.wrl's texels at 1.3 % instead of 2.0 %.)
+            g.coarse_rule_on_emitters = p.partial;
             g.visit(p.source);
             g.coarse_opening = false;
         } else {
