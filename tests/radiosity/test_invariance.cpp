@@ -81,7 +81,10 @@ TEST_CASE("a scene scaled by 1e-4 or 1e6 refines the same way and gives the same
         CHECK(scaled->stats.elements == base->stats.elements);
         // Float rounding of the scaled positions may flip an oracle decision at the margin.
         CHECK(std::abs(double(scaled->stats.links) - double(base->stats.links)) <= 1e-3 * base->stats.links);
-        CHECK(scaled->stats.occluded_links == base->stats.occluded_links);
+        // Links every sample ray found blocked count as occluded: a grazing ray (below) may
+        // flip one between kept and occluded, within the same budget.
+        CHECK(std::abs(double(scaled->stats.occluded_links) - double(base->stats.occluded_links)) <=
+              1e-3 * base->stats.links);
         // Radiosity (W/m^2) does not depend on the scale. Float rounding of the positions
         // differs (1e-7 relative), which can flip a grazing shadow ray where the block stands
         // on the floor (one of 9 rays of a link): elements within 1 %, the mean within 1e-4.
