@@ -428,10 +428,12 @@ std::vector<PendingLink> ClusterRefiner::reopen(Progress& progress, bool& change
     Solution& s = state_.solution;
     prepareRound();
     std::vector<PendingClusterLink> pending;
-    std::vector<ClusterLink> kept;
-    std::vector<float> kernel;
-    kept.reserve(s.cluster_links.size());
-    for (const ClusterLink& link : s.cluster_links) {
+    // The kept links and their kernels are compacted in place: copies of both were the peak
+    // of a large solve.
+    size_t kept = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> kernels;  // (old offset, kept link) per pairwise link
+    for (size_t l = 0; l < s.cluster_links.size(); ++l) {
+        const ClusterLink link = s.cluster_links[l];
         const double error = link.visibility == 0.0f ? 0.0 : bound(link.receiver, link.source);
         // Deferred links whose source now has light are evaluated; others reopen when their
         // bound exceeds the threshold (never those whose rays were all blocked).
@@ -443,17 +445,22 @@ std::vector<PendingLink> ClusterRefiner::reopen(Progress& progress, bool& change
             ++s.stats.reopened_links;
             continue;
         }
-        ClusterLink copy = link;
-        if (link.kernel != kNoKernel) {
-            const size_t size = size_t(membersOf(s, link.receiver).count) * membersOf(s, link.source).count;
-            copy.kernel = static_cast<uint32_t>(kernel.size());
-            kernel.insert(kernel.end(), s.cluster_kernel.begin() + link.kernel,
-                          s.cluster_kernel.begin() + link.kernel + size);
-        }
-        kept.push_back(copy);
+        if (link.kernel != kNoKernel) kernels.push_back({link.kernel, static_cast<uint32_t>(kept)});
+        s.cluster_links[kept++] = link;
     }
-    s.cluster_links = std::move(kept);
-    s.cluster_kernel = std::move(kernel);
+    s.cluster_links.resize(kept);
+    // Kernels move down in the order they are stored, so no block overwrites one still to move.
+    std::sort(kernels.begin(), kernels.end());
+    size_t end = 0;
+    for (const auto& [offset, l] : kernels) {
+        ClusterLink& link = s.cluster_links[l];
+        const size_t size = size_t(membersOf(s, link.receiver).count) * membersOf(s, link.source).count;
+        std::copy(s.cluster_kernel.begin() + offset, s.cluster_kernel.begin() + offset + size,
+                  s.cluster_kernel.begin() + end);
+        link.kernel = static_cast<uint32_t>(end);
+        end += size;
+    }
+    s.cluster_kernel.resize(end);
     changed = !pending.empty();
     if (pending.empty()) return {};
     return refine(std::move(pending), progress);
