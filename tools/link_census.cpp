@@ -123,6 +123,9 @@ int main(int argc, char** argv) {
                 sizeof(Link), s.cluster_links.size() * sizeof(ClusterLink) / 1e6, s.cluster_links.size(),
                 sizeof(ClusterLink), s.cluster_kernel.size() * sizeof(float) / 1e6, s.cluster_kernel.size(),
                 kernel_links);
-    std::printf("partial element links %zu, invisible element links %zu\n", partial, dark);
+    size_t zeros = 0;
+    for (const float k : s.cluster_kernel) zeros += k == 0.0f ? 1 : 0;
+    std::printf("partial element links %zu, invisible element links %zu, zero kernel entries %zu of %zu\n", partial,
+                dark, zeros, s.cluster_kernel.size());
     return 0;
 }
