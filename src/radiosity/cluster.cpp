@@ -454,7 +454,7 @@ std::vector<PendingLink> ClusterRefiner::reopen(Progress& progress, bool& change
     size_t end = 0;
     for (const auto& [offset, l] : kernels) {
         ClusterLink& link = s.cluster_links[l];
-        const size_t size = size_t(membersOf(s, link.receiver).count) * membersOf(s, link.source).count;
+        const size_t size = kernelFloats(kernelMask(s, link));
         std::copy(s.cluster_kernel.begin() + offset, s.cluster_kernel.begin() + offset + size,
                   s.cluster_kernel.begin() + end);
         link.kernel = static_cast<uint32_t>(end);
@@ -748,10 +748,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                                            .kernel = kNoKernel,
                                            .visibility = ev.visibility,
                                            .scale = ev.scale};
-                    if (!ev.kernel.empty()) {
-                        final_link.kernel = static_cast<uint32_t>(s.cluster_kernel.size());
-                        s.cluster_kernel.insert(s.cluster_kernel.end(), ev.kernel.begin(), ev.kernel.end());
-                    }
+                    if (!ev.kernel.empty()) final_link.kernel = appendKernel(s, ev.kernel.data(), ev.kernel.size());
                     s.cluster_links.push_back(final_link);
                     continue;
                 }
@@ -812,13 +809,11 @@ void forEachClusterExchange(const Solution& s, const std::function<void(uint32_t
             else join(anchor, root);
         };
         if (link.kernel != kNoKernel) {
-            const float* kernel = s.cluster_kernel.data() + link.kernel;
-            for (uint32_t i = 0; i < sm.count; ++i)
-                for (uint32_t j = 0; j < rm.count; ++j)
-                    if (kernel[size_t(i) * rm.count + j] > 0.0) {
-                        add(s.cluster_members[sm.first + i]);
-                        add(s.cluster_members[rm.first + j]);
-                    }
+            for (uint64_t mask = kernelMask(s, link); mask != 0; mask &= mask - 1) {
+                const auto pair = static_cast<uint32_t>(std::countr_zero(mask));  // pairs in order
+                add(s.cluster_members[sm.first + pair / rm.count]);
+                add(s.cluster_members[rm.first + pair % rm.count]);
+            }
             continue;
         }
         for (uint32_t k = sm.first; k < sm.first + sm.count; ++k)
@@ -862,9 +857,8 @@ void ClusterTransfer::gather(const Solution& s, ParallelRunner& runner, std::vec
             }
             const NodeMembers rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
             const uint32_t j = s.member_position[root] - rm.first;
-            const float* kernel = s.cluster_kernel.data() + link.kernel;
             for (uint32_t i = 0; i < sm.count; ++i)
-                h += double(kernel[size_t(i) * rm.count + j]) * s.elements[s.cluster_members[sm.first + i]].radiosity;
+                h += pairKernelOf(s, link, i * rm.count + j) * s.elements[s.cluster_members[sm.first + i]].radiosity;
         });
         per_root[r] = h;
     });
@@ -906,9 +900,8 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
             // Small (near) links: the exact point-to-polygon form factor of each pair that carries light.
             const NodeMembers rm = membersOf(s, link.receiver);
             const uint32_t j = s.member_position[leaf.root] - rm.first;
-            const float* kernel = s.cluster_kernel.data() + link.kernel;
             for (uint32_t i = 0; i < sm.count; ++i) {
-                if (!(kernel[size_t(i) * rm.count + j] > 0.0)) continue;
+                if (!(pairKernelOf(s, link, i * rm.count + j) > 0.0)) continue;
                 const Element& src = s.elements[s.cluster_members[sm.first + i]];
                 sum += pointPolygonFormFactor(leaf.centroid, leaf.normal, polygonOf(s, src).vertices, src.normal);
             }

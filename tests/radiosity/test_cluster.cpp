@@ -8,6 +8,7 @@
 #include <random>
 
 #include "radiosity/cluster.h"
+#include "radiosity/cluster_nodes.h"
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/refine.h"
@@ -433,3 +434,20 @@ TEST_CASE("clustering on and off agree on a lit room") {
 
 
 
+
+TEST_CASE("sparse pairwise kernels: every pair reads back its dense value, zeros included") {
+    Solution s;
+    s.cluster_kernel = {7.0f};  // something before, so offsets are not 0
+    const std::vector<float> dense = {0.0f, 1.5f, 0.0f, 2.5f, 1e-30f, 0.0f, 3.0f, 0.0f, 0.0f, 4.0f};
+    std::vector<float> full(64, 0.0f);
+    full[0] = 0.25f, full[31] = 0.5f, full[32] = 0.75f, full[63] = 1.0f;
+    const uint32_t a = appendKernel(s, dense.data(), dense.size());
+    const uint32_t b = appendKernel(s, full.data(), full.size());
+    CHECK(a == 1);
+    CHECK(b == a + kernelFloats(0b1001011010));  // 2 mask floats + 5 values
+    const ClusterLink la{.kernel = a}, lb{.kernel = b};
+    for (uint32_t p = 0; p < dense.size(); ++p) CHECK(pairKernelOf(s, la, p) == double(dense[p]));
+    for (uint32_t p = 0; p < full.size(); ++p) CHECK(pairKernelOf(s, lb, p) == double(full[p]));
+    CHECK(s.cluster_kernel.size() == b + kernelFloats(kernelMask(s, lb)));
+    CHECK(kernelFloats(kernelMask(s, lb)) == 2 + 4);
+}
