@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Scale yardstick (issue 11): the solve of every scene of the scale ladder, as
 #   bench_solver SCENE --modes exact --threads 2 --runs 1
-# prints it, each under a timeout and a memory cap; one markdown table on stdout:
-#   scene, triangles, median_s, links, rss_mb, status
+# prints it, each under a timeout and a memory cap; one markdown table on stdout, a row printed
+# as each scene finishes: scene, triangles, median_s, links, rays, rss_mb, status
 #
 #   tools/bench_scale.sh [RADBAKE_BUILD_DIR] [--timeout S] [--mem-gb G] [--scenes LIST|small|all]
 #                        [--quality Q] [--threads N] [--runs N] [--work DIR] [--csv FILE]
@@ -79,14 +79,21 @@ case "$scenes" in
 esac
 
 rows=()
+# One row per scene, printed as soon as it is known (a long ladder shows its results as it goes).
+add_row() {
+  rows+=("$1")
+  echo "| ${1//|/ | } |"
+}
 echo "bench_scale: $(date -u +%FT%TZ), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg) at start;" \
      "bench_solver --modes exact --threads $threads --runs $runs --quality $quality;" \
      "timeout ${timeout_s} s, memory cap $((mem_kb / 1024)) MB per scene" >&2
 IFS=',' read -r -a names <<< "$scenes"
+echo "| scene | triangles | median_s | links | rays | rss_mb | status |"
+echo "|---|---:|---:|---:|---:|---:|---|"
 for name in "${names[@]}"; do
   if ! file=$(scene_file "$name"); then echo "bench_scale: unknown scene $name" >&2; exit 2; fi
   if [ ! -f "$file" ]; then
-    rows+=("$name|-|-|-|-|missing ($file)")
+    add_row "$name|-|-|-|-|-|missing ($file)"
     continue
   fi
   triangles=$("$radbake" info "$file" --json 2>/dev/null | python3 -c 'import json, sys; print(json.load(sys.stdin)["triangles"])' 2>/dev/null || echo "?")
@@ -100,10 +107,10 @@ for name in "${names[@]}"; do
   set -e
   peak_kb=$(grep -Eo '^[0-9.]+ [0-9]+$' "$work/$name.time" | tail -1 | cut -d' ' -f2 || true)
   wall=$(grep -Eo '^[0-9.]+ [0-9]+$' "$work/$name.time" | tail -1 | cut -d' ' -f1 || true)
-  row=$(awk '$1 == "exact" {print $3, $6, $11}' "$log" | tail -1)
+  row=$(awk '$1 == "exact" {print $3, $6, $9, $11}' "$log" | tail -1)
   if [ "$rc" -eq 0 ] && [ -n "$row" ]; then
-    read -r median links rss <<< "$row"
-    rows+=("$name|$triangles|$median|$links|$rss|ok")
+    read -r median links rays rss <<< "$row"
+    add_row "$name|$triangles|$median|$links|$rays|$rss|ok"
   else
     rss="-"; [ -n "$peak_kb" ] && rss=$(awk -v k="$peak_kb" 'BEGIN {printf "%.1f", k / 1024}')
     timed_out=$(awk -v w="${wall:-0}" -v t="$timeout_s" 'BEGIN {print (w + 0 >= t) ? 1 : 0}')
@@ -117,16 +124,13 @@ for name in "${names[@]}"; do
       status="failed (exit $rc: $(grep -v '^$' "$log.err" | tail -1 | cut -c1-80))"
     fi
     [ -n "$wall" ] && status="$status after ${wall} s"
-    rows+=("$name|$triangles|-|-|$rss|$status")
+    add_row "$name|$triangles|-|-|-|$rss|$status"
   fi
   echo "bench_scale: $name done (exit $rc, ${wall:-?} s wall, load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
 done
 
-echo "| scene | triangles | median_s | links | rss_mb | status |"
-echo "|---|---:|---:|---:|---:|---|"
-for row in "${rows[@]}"; do echo "| ${row//|/ | } |"; done
 if [ -n "$csv_out" ]; then
-  { echo "scene,triangles,median_s,links,rss_mb,status"
-    for row in "${rows[@]}"; do IFS='|' read -r a b c d e f <<< "$row"; echo "$a,$b,$c,$d,$e,\"$f\""; done
+  { echo "scene,triangles,median_s,links,rays,rss_mb,status"
+    for row in "${rows[@]}"; do IFS='|' read -r a b c d e f g <<< "$row"; echo "$a,$b,$c,$d,$e,$f,\"$g\""; done
   } > "$csv_out"
 fi

@@ -2,7 +2,7 @@
 """Plot how the radiosity solve grows with scene size (issue 11, docs/results.md).
 
 Reads the CSV files written by `tools/bench_scale.sh --csv FILE` (columns scene, triangles,
-median_s, links, rss_mb, status) and writes one self-contained SVG with three log-log panels:
+median_s, links, rays, rss_mb, status; older files without rays too) and writes one self-contained SVG with three log-log panels:
 solve time (s), peak memory (MB) and links, each against triangles. The building_* scenes (the
 generated ladder) are joined by a line; the other (real) scenes are separate labelled markers.
 A dotted line of slope 1 (linear growth) passes through the smallest building point of each panel.

@@ -82,7 +82,8 @@ struct KeyWriter {
 std::string solutionKey(const Scene& scene, const SolverOptions& o) {
     KeyWriter k;
     k.bytes = radbakeGenerator() + "\n";
-    for (const size_t size : {sizeof(Element), sizeof(Link), sizeof(Cluster), sizeof(ClusterLink), sizeof(SolveStats)})
+    for (const size_t size : {sizeof(Element), sizeof(Link), sizeof(Cluster), sizeof(ClusterLink), sizeof(SolveStats),
+                              sizeof(Solution::cluster_kernel[0])})
         k.add(static_cast<uint64_t>(size));
     k.add(static_cast<uint64_t>(scene.meshes.size()));
     for (const Mesh& m : scene.meshes) {
@@ -106,7 +107,7 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
     k.add(o.iteration_tolerance), k.add(o.max_iterations), k.add(o.refine_rounds), k.add(o.quadrature_order);
     k.add(o.quadrature_near_ratio), k.add(o.quadrature_max_depth), k.add(o.visibility_samples);
     k.add(o.probe_opening), k.add(o.probe_samples), k.add(o.probe_visibility_ratio), k.add(o.probe_visibility_coarse);
-    k.add(o.area_exponent), k.add(o.clustering), k.add(o.local_error_threshold);
+    k.add(o.area_exponent), k.add(o.clustering), k.add(o.local_error_threshold), k.add(o.keep_blocked_links);
     return sha256Hex(k.bytes);
 }
 

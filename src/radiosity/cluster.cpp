@@ -132,6 +132,12 @@ double pairKernel(const Solution& s, const Element& i, const Element& j, const D
     return averagedFormFactor(s, j, source, j_points);
 }
 
+// pairKernel's test for a pair that can exchange light (cheap: no form factor).
+bool pairFaces(const Solution& s, const Element& i, const Element& j) {
+    const DVec3 u = j.centroid - i.centroid;
+    return glm::dot(u, u) > 0.0 && facing(polygonOf(s, j), polygonOf(s, i));
+}
+
 OcclusionTest occlusionTestFor(LinkVisibility mode) {
     switch (mode) {
         case LinkVisibility::Obb: return OcclusionTest::Obb;
@@ -151,7 +157,7 @@ struct ClusterEvaluation {
     size_t list_parts = 0;              // parts named by the link's inherited list
     uint32_t list = kNoList;
     std::vector<uint32_t> candidates;
-    std::vector<double> kernel;         // pairwise links
+    std::vector<float> kernel;          // pairwise links (Solution::cluster_kernel)
     float visibility = 1.0f;
     float scale = 1.0f;
     size_t rays = 0;
@@ -422,10 +428,12 @@ std::vector<PendingLink> ClusterRefiner::reopen(Progress& progress, bool& change
     Solution& s = state_.solution;
     prepareRound();
     std::vector<PendingClusterLink> pending;
-    std::vector<ClusterLink> kept;
-    std::vector<double> kernel;
-    kept.reserve(s.cluster_links.size());
-    for (const ClusterLink& link : s.cluster_links) {
+    // The kept links and their kernels are compacted in place: copies of both were the peak
+    // of a large solve.
+    size_t kept = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> kernels;  // (old offset, kept link) per pairwise link
+    for (size_t l = 0; l < s.cluster_links.size(); ++l) {
+        const ClusterLink link = s.cluster_links[l];
         const double error = link.visibility == 0.0f ? 0.0 : bound(link.receiver, link.source);
         // Deferred links whose source now has light are evaluated; others reopen when their
         // bound exceeds the threshold (never those whose rays were all blocked).
@@ -437,17 +445,22 @@ std::vector<PendingLink> ClusterRefiner::reopen(Progress& progress, bool& change
             ++s.stats.reopened_links;
             continue;
         }
-        ClusterLink copy = link;
-        if (link.kernel != kNoKernel) {
-            const size_t size = size_t(membersOf(s, link.receiver).count) * membersOf(s, link.source).count;
-            copy.kernel = static_cast<uint32_t>(kernel.size());
-            kernel.insert(kernel.end(), s.cluster_kernel.begin() + link.kernel,
-                          s.cluster_kernel.begin() + link.kernel + size);
-        }
-        kept.push_back(copy);
+        if (link.kernel != kNoKernel) kernels.push_back({link.kernel, static_cast<uint32_t>(kept)});
+        s.cluster_links[kept++] = link;
     }
-    s.cluster_links = std::move(kept);
-    s.cluster_kernel = std::move(kernel);
+    s.cluster_links.resize(kept);
+    // Kernels move down in the order they are stored, so no block overwrites one still to move.
+    std::sort(kernels.begin(), kernels.end());
+    size_t end = 0;
+    for (const auto& [offset, l] : kernels) {
+        ClusterLink& link = s.cluster_links[l];
+        const size_t size = kernelFloats(kernelMask(s, link));
+        std::copy(s.cluster_kernel.begin() + offset, s.cluster_kernel.begin() + offset + size,
+                  s.cluster_kernel.begin() + end);
+        link.kernel = static_cast<uint32_t>(end);
+        end += size;
+    }
+    s.cluster_kernel.resize(end);
     changed = !pending.empty();
     if (pending.empty()) return {};
     return refine(std::move(pending), progress);
@@ -557,19 +570,18 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             return root_points_[size_t(s.cluster_members[rm.first + j]) * kPointsPerMember + q % kPointsPerMember];
         };
         if (size_t(rm.count) * sm.count <= kPairwiseLimit) {
-            ev.kernel.assign(size_t(sm.count) * rm.count, 0.0);
+            // Pairs that face: rays first, then the kernel of the pairs found open only (the
+            // kernels of blocked pairs were a third of a building's solve).
+            ev.kernel.assign(size_t(sm.count) * rm.count, 0.0f);
             std::array<uint32_t, kPairwiseLimit> lit;  // pairs that face: i * rm.count + j
             size_t lit_count = 0;
             for (uint32_t i = 0; i < sm.count; ++i) {
                 const Element& ei = s.elements[s.cluster_members[sm.first + i]];
-                for (uint32_t j = 0; j < rm.count; ++j) {
-                    const Element& ej = s.elements[s.cluster_members[rm.first + j]];
-                    const double k = pairKernel(s, ei, ej, &rcv_point(j, 0));
-                    if (!(k > 0.0)) continue;
-                    ev.kernel[size_t(i) * rm.count + j] = k;
-                    lit[lit_count++] = i * rm.count + j;
-                }
+                for (uint32_t j = 0; j < rm.count; ++j)
+                    if (pairFaces(s, ei, s.elements[s.cluster_members[rm.first + j]])) lit[lit_count++] = i * rm.count + j;
             }
+            std::array<uint8_t, kPairwiseLimit> open_pair;  // per lit pair: its ray was open
+            open_pair.fill(1);
             // Each pair's own ray (kRaysPerPair), or for a faint link first kFaintRays of them,
             // spread: when they agree, every pair takes their answer.
             auto pair_open = [&](uint32_t pair) {
@@ -594,9 +606,17 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 resolved = open == kFaintRays;
             }
             if (!resolved)
-                for (size_t t = 0; t < lit_count; ++t) ev.kernel[lit[t]] *= pair_open(lit[t]);
+                for (size_t t = 0; t < lit_count; ++t) open_pair[t] = pair_open(lit[t]) > 0.0 ? 1 : 0;
             bool any = false;
-            for (size_t t = 0; t < lit_count && !any; ++t) any = ev.kernel[lit[t]] > 0.0;
+            for (size_t t = 0; t < lit_count; ++t) {
+                if (!open_pair[t]) continue;
+                const uint32_t i = lit[t] / rm.count, j = lit[t] % rm.count;
+                const float k = static_cast<float>(
+                    pairKernel(s, s.elements[s.cluster_members[sm.first + i]], s.elements[s.cluster_members[rm.first + j]],
+                               &rcv_point(j, 0)));
+                ev.kernel[lit[t]] = k;
+                any = any || k > 0.0f;
+            }
             if (!any) {
                 ev.kernel.clear();
                 ev.visibility = 0.0f;
@@ -616,7 +636,8 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             ev.visibility = 0.0f;
             return ev;
         }
-        {
+        // The calibration, once the link is known to carry light (after its rays).
+        auto calibrate = [&] {
             double exact = 0.0, product = 0.0;
             const size_t pairs = std::min(kCalibrationPairs, sf.size() * rf.size());
             for (size_t t = 0; t < pairs; ++t) {
@@ -627,8 +648,11 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 exact += averagedFormFactor(s, ej, polygonOf(s, ei), &rcv_point(j, 0));
             }
             if (product > 0.0) ev.scale = static_cast<float>(exact / product);
+        };
+        if (visible) {
+            calibrate();
+            return ev;
         }
-        if (visible) return ev;
         // Rays between facing members; the first disagreement settles it (mixed: split).
         size_t open = 0, total = 0;
         auto cast = [&](const DVec3& from, const DVec3& to) {
@@ -660,6 +684,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             return ev;
         }
         if (open == 0) ev.visibility = 0.0f;  // else wholly visible
+        else calibrate();
         return ev;
     };
 
@@ -708,6 +733,12 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                     continue;
                 }
                 if (ev.decision != Decision::Keep) ++s.stats.split_links;
+                if (ev.decision == Decision::Keep && ev.visibility == 0.0f && !state_.options.keep_blocked_links) {
+                    // Carries nothing and is never reopened: not stored (they were half of a
+                    // building's cluster links, blocked by walls).
+                    ++(ev.rays > 0 ? s.stats.occluded_links : s.stats.dropped_links);
+                    continue;
+                }
                 if (ev.decision == Decision::Keep) {
                     // Reopened, a link is classified again from its parent's list (a superset):
                     // a kept link's own list is not stored (it was most of the memory).
@@ -717,10 +748,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                                            .kernel = kNoKernel,
                                            .visibility = ev.visibility,
                                            .scale = ev.scale};
-                    if (!ev.kernel.empty()) {
-                        final_link.kernel = static_cast<uint32_t>(s.cluster_kernel.size());
-                        s.cluster_kernel.insert(s.cluster_kernel.end(), ev.kernel.begin(), ev.kernel.end());
-                    }
+                    if (!ev.kernel.empty()) final_link.kernel = appendKernel(s, ev.kernel.data(), ev.kernel.size());
                     s.cluster_links.push_back(final_link);
                     continue;
                 }
@@ -781,13 +809,11 @@ void forEachClusterExchange(const Solution& s, const std::function<void(uint32_t
             else join(anchor, root);
         };
         if (link.kernel != kNoKernel) {
-            const double* kernel = s.cluster_kernel.data() + link.kernel;
-            for (uint32_t i = 0; i < sm.count; ++i)
-                for (uint32_t j = 0; j < rm.count; ++j)
-                    if (kernel[size_t(i) * rm.count + j] > 0.0) {
-                        add(s.cluster_members[sm.first + i]);
-                        add(s.cluster_members[rm.first + j]);
-                    }
+            for (uint64_t mask = kernelMask(s, link); mask != 0; mask &= mask - 1) {
+                const auto pair = static_cast<uint32_t>(std::countr_zero(mask));  // pairs in order
+                add(s.cluster_members[sm.first + pair / rm.count]);
+                add(s.cluster_members[rm.first + pair % rm.count]);
+            }
             continue;
         }
         for (uint32_t k = sm.first; k < sm.first + sm.count; ++k)
@@ -831,9 +857,8 @@ void ClusterTransfer::gather(const Solution& s, ParallelRunner& runner, std::vec
             }
             const NodeMembers rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
             const uint32_t j = s.member_position[root] - rm.first;
-            const double* kernel = s.cluster_kernel.data() + link.kernel;
             for (uint32_t i = 0; i < sm.count; ++i)
-                h += kernel[size_t(i) * rm.count + j] * s.elements[s.cluster_members[sm.first + i]].radiosity;
+                h += pairKernelOf(s, link, i * rm.count + j) * s.elements[s.cluster_members[sm.first + i]].radiosity;
         });
         per_root[r] = h;
     });
@@ -875,9 +900,8 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
             // Small (near) links: the exact point-to-polygon form factor of each pair that carries light.
             const NodeMembers rm = membersOf(s, link.receiver);
             const uint32_t j = s.member_position[leaf.root] - rm.first;
-            const double* kernel = s.cluster_kernel.data() + link.kernel;
             for (uint32_t i = 0; i < sm.count; ++i) {
-                if (!(kernel[size_t(i) * rm.count + j] > 0.0)) continue;
+                if (!(pairKernelOf(s, link, i * rm.count + j) > 0.0)) continue;
                 const Element& src = s.elements[s.cluster_members[sm.first + i]];
                 sum += pointPolygonFormFactor(leaf.centroid, leaf.normal, polygonOf(s, src).vertices, src.normal);
             }

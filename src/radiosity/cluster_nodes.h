@@ -2,8 +2,10 @@
 // Reading cluster-link ends (solution.h): a node is a root element index, or a cluster index
 // with kClusterNode set. Shared by the solve (cluster.cpp) and the reconstruction
 // (reconstruct.cpp), which must read a link exactly as the solve does.
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "radiosity/solution.h"
 
@@ -25,6 +27,43 @@ inline NodeMembers membersOf(const Solution& s, uint32_t node) {
         return {c.first_member, c.member_count};
     }
     return {s.member_position[node], 1};
+}
+
+// A pairwise link's kernel, stored sparse at Solution::cluster_kernel[link.kernel ...]: the bits
+// of a 64-bit mask of the member pairs p = i * |R| + j that carry light (in two floats), then
+// those pairs' values in pair order (about half the pairs of a building's links carry none).
+inline constexpr size_t kKernelMaskFloats = 2;
+static_assert(kKernelMaskFloats * sizeof(float) == sizeof(uint64_t));
+
+inline uint64_t kernelMask(const Solution& s, const ClusterLink& link) {
+    uint64_t mask = 0;
+    std::memcpy(&mask, s.cluster_kernel.data() + link.kernel, sizeof mask);
+    return mask;
+}
+
+// Floats a pairwise link's kernel takes.
+inline size_t kernelFloats(uint64_t mask) { return kKernelMaskFloats + size_t(std::popcount(mask)); }
+
+// Irradiance at receiver member j per unit radiosity of source member i, pair = i * |R| + j.
+inline double pairKernelOf(const Solution& s, const ClusterLink& link, uint32_t pair) {
+    const uint64_t mask = kernelMask(s, link);
+    if (!((mask >> pair) & 1u)) return 0.0;
+    const uint64_t below = mask & ((uint64_t(1) << pair) - 1u);
+    return s.cluster_kernel[link.kernel + kKernelMaskFloats + size_t(std::popcount(below))];
+}
+
+// Appends a dense kernel (|S| x |R| values, at most 64) in the sparse form; returns its offset.
+inline uint32_t appendKernel(Solution& s, const float* dense, size_t pairs) {
+    const auto offset = static_cast<uint32_t>(s.cluster_kernel.size());
+    uint64_t mask = 0;
+    for (size_t p = 0; p < pairs; ++p)
+        if (dense[p] > 0.0f) mask |= uint64_t(1) << p;
+    float bits[kKernelMaskFloats];
+    std::memcpy(bits, &mask, sizeof mask);
+    s.cluster_kernel.insert(s.cluster_kernel.end(), bits, bits + kKernelMaskFloats);
+    for (size_t p = 0; p < pairs; ++p)
+        if (dense[p] > 0.0f) s.cluster_kernel.push_back(dense[p]);
+    return offset;
 }
 
 // Receiver key: roots first, then clusters (the order cluster links are grouped in).

@@ -93,7 +93,7 @@ void LinkReconstruction::forClusterPairs(uint32_t root, F&& f) const {
             const NodeMembers rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
             const uint32_t j = s.member_position[root] - rm.first;
             for (uint32_t i = 0; i < sm.count; ++i) {
-                const double kernel = s.cluster_kernel[link.kernel + size_t(i) * rm.count + j];
+                const double kernel = pairKernelOf(s, link, i * rm.count + j);
                 if (kernel > 0.0) f(s.cluster_members[sm.first + i], kernel, link);
             }
         }

@@ -258,10 +258,23 @@ RefineState makeRefineState(const Scene& scene, const PartSet& parts, const Solv
     RefineState state{.scene = scene, .parts = parts, .options = options, .runner = runner, .solution = solution};
     state.memory_budget_mb = memoryBudgetMegabytes(options.max_memory_mb);
     state.candidate_pool.push_back(allParts(parts));
+    // partsOfPolygon's answer for every root from one pass over the parts (asking it per root
+    // scanned every part: O(roots x parts), minutes on the 1M-triangle building).
+    std::vector<std::vector<std::vector<uint32_t>>> by_polygon(scene.meshes.size());
+    for (uint32_t p = 0; p < parts.parts.size(); ++p) {
+        const ConvexPart& part = parts.parts[p];
+        if (part.mesh >= by_polygon.size()) continue;
+        auto& mesh = by_polygon[part.mesh];
+        for (const uint32_t polygon : part.polygons) {
+            if (polygon >= mesh.size()) mesh.resize(polygon + 1);
+            if (mesh[polygon].empty() || mesh[polygon].back() != p) mesh[polygon].push_back(p);
+        }
+    }
     state.root_excluded.resize(solution.root_count);
     for (uint32_t i = 0; i < solution.root_count; ++i) {
         const Element& e = solution.elements[i];
-        state.root_excluded[i] = partsOfPolygon(parts, e.mesh, e.polygon);
+        if (e.mesh < by_polygon.size() && e.polygon < by_polygon[e.mesh].size())
+            state.root_excluded[i] = by_polygon[e.mesh][e.polygon];
     }
     state.min_area = options.min_element_area * solution.total_area;
     return state;
@@ -437,6 +450,15 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
         link.form_factor *= visibility[k];
         link.by_rays = true;
         s.stats.rays += rays[k];
+    }
+    // A link every ray found blocked carries nothing and is never reopened: its candidate
+    // list (its own) is freed. The link stays: the reconstruction finds the polygons touching
+    // a point through its links (reconstruct.cpp), blocked ones included.
+    for (size_t k = 0; k < needs_rays.size(); ++k) {
+        LinkRecord& record = state.records[needs_rays[k]];
+        if (visibility[k] > 0.0 || record.candidates == kNoList || record.candidates == 0) continue;
+        std::vector<uint32_t>().swap(state.candidate_pool[record.candidates]);
+        record.candidates = kNoList;
     }
 }
 

@@ -102,7 +102,8 @@ struct Solution {
     std::vector<uint32_t> member_position;    // per root: its index in cluster_members
     std::vector<uint32_t> root_leaf_cluster;  // per root: the leaf cluster holding it
     std::vector<ClusterLink> cluster_links;   // grouped by receiver node (roots, then clusters)
-    std::vector<double> cluster_kernel;       // per small cluster link: |S| x |R| irradiance per unit B
+    std::vector<float> cluster_kernel;        // per small cluster link: |S| x |R| irradiance per unit B,
+                                              // sparse (cluster_nodes.h: kernelMask, pairKernelOf)
     double scene_extent = 1.0;     // diagonal of the scene's bounding box (metres)
     double total_area = 0.0;
     std::unique_ptr<RayCaster> rays;  // for probes and vertex evaluation

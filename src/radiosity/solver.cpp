@@ -143,7 +143,7 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
         if (s.stats.links > 0)
             s.stats.bytes_per_link = static_cast<double>(s.links.size() * sizeof(Link) +
                                                          s.cluster_links.size() * sizeof(ClusterLink) +
-                                                         s.cluster_kernel.size() * sizeof(double)) /
+                                                         s.cluster_kernel.size() * sizeof(float)) /
                                      static_cast<double>(s.stats.links);
         s.stats.memory_budget_mb = memoryBudgetMegabytes(options.max_memory_mb);
         s.stats.leaves = 0;

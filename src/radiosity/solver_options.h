@@ -75,6 +75,10 @@ struct SolverOptions {
     bool clustering = true;
     double local_error_threshold = 0.1;   // fraction of its own irradiance a link may vary over a
                                           // receiver (above; 0: off; needs refine_rounds >= 2)
+    // Cluster links found blocked by every one of their sample rays carry nothing and are not
+    // kept (counted in occluded_links); true keeps them with visibility 0, for tests of the
+    // link hierarchy's coverage. The light is the same either way.
+    bool keep_blocked_links = false;
 
     static SolverOptions forQuality(Quality quality);  // fills every knob from a preset
 };

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "radiosity/cluster.h"
+#include "radiosity/cluster_nodes.h"
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/refine.h"
@@ -294,9 +295,30 @@ TEST_CASE("two rooms joined by a doorway exchange light only through it") {
 TEST_CASE("cluster and element links cover every ordered pair of facing, mutually visible roots once") {
     const Scene scene = twoRooms(true);
     Diagnostics diagnostics;
-    const auto solution = solve(scene, medium(), diagnostics, 2);
+    SolverOptions options = medium();
+    options.keep_blocked_links = true;  // links every sample ray found blocked cover their pairs too
+    const auto solution = solve(scene, options, diagnostics, 2);
     REQUIRE(solution);
     const Solution& s = *solution;
+    // By default those links are not kept, and counted occluded instead; nothing else changes.
+    {
+        const auto lean = solve(scene, medium(), diagnostics, 2);
+        REQUIRE(lean);
+        size_t blocked = 0;
+        for (const ClusterLink& link : s.cluster_links) blocked += link.visibility == 0.0f ? 1 : 0;
+        CHECK(blocked > 0);
+        CHECK(lean->links.size() == s.links.size());
+        CHECK(lean->cluster_links.size() == s.cluster_links.size() - blocked);
+        for (const ClusterLink& link : lean->cluster_links) CHECK(link.visibility != 0.0f);
+        CHECK(lean->stats.rays == s.stats.rays);
+        CHECK(lean->stats.candidate_links == s.stats.candidate_links);
+        CHECK(lean->stats.occluded_links + lean->stats.dropped_links ==
+              s.stats.occluded_links + s.stats.dropped_links + blocked);
+        size_t differing = 0;
+        for (size_t i = 0; i < s.elements.size(); ++i)
+            differing += std::memcmp(&s.elements[i].radiosity, &lean->elements[i].radiosity, sizeof(DVec3)) != 0;
+        CHECK(differing == 0);
+    }
     CHECK(s.stats.links == s.links.size() + s.cluster_links.size());
     CHECK(s.stats.element_links == s.links.size());
     CHECK(s.stats.cluster_links == s.cluster_links.size());
@@ -358,7 +380,7 @@ TEST_CASE("clustering: threads = 1 and 2 give the same result bytes") {
                      a.candidates != b.candidates || a.visibility != b.visibility;
     }
     differing += std::memcmp(one->cluster_kernel.data(), two->cluster_kernel.data(),
-                             one->cluster_kernel.size() * sizeof(double)) != 0;
+                             one->cluster_kernel.size() * sizeof(one->cluster_kernel[0])) != 0;
     CHECK(differing == 0);
 }
 
@@ -412,3 +434,20 @@ TEST_CASE("clustering on and off agree on a lit room") {
 
 
 
+
+TEST_CASE("sparse pairwise kernels: every pair reads back its dense value, zeros included") {
+    Solution s;
+    s.cluster_kernel = {7.0f};  // something before, so offsets are not 0
+    const std::vector<float> dense = {0.0f, 1.5f, 0.0f, 2.5f, 1e-30f, 0.0f, 3.0f, 0.0f, 0.0f, 4.0f};
+    std::vector<float> full(64, 0.0f);
+    full[0] = 0.25f, full[31] = 0.5f, full[32] = 0.75f, full[63] = 1.0f;
+    const uint32_t a = appendKernel(s, dense.data(), dense.size());
+    const uint32_t b = appendKernel(s, full.data(), full.size());
+    CHECK(a == 1);
+    CHECK(b == a + kernelFloats(0b1001011010));  // 2 mask floats + 5 values
+    const ClusterLink la{.kernel = a}, lb{.kernel = b};
+    for (uint32_t p = 0; p < dense.size(); ++p) CHECK(pairKernelOf(s, la, p) == double(dense[p]));
+    for (uint32_t p = 0; p < full.size(); ++p) CHECK(pairKernelOf(s, lb, p) == double(full[p]));
+    CHECK(s.cluster_kernel.size() == b + kernelFloats(kernelMask(s, lb)));
+    CHECK(kernelFloats(kernelMask(s, lb)) == 2 + 4);
+}

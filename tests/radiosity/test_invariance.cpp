@@ -82,7 +82,10 @@ TEST_CASE("a scene scaled by 1e-4 or 1e6 refines the same way and gives the same
         // Float rounding of the scaled positions may flip an oracle decision at the margin
         // (since the floor is cut along the block, contact_cuts.h: 40 of 14,486 links at 1e-4).
         CHECK(std::abs(double(scaled->stats.links) - double(base->stats.links)) <= 5e-3 * base->stats.links);
-        CHECK(scaled->stats.occluded_links == base->stats.occluded_links);
+        // Links every sample ray found blocked count as occluded: a grazing ray (below) may
+        // flip one between kept and occluded, within the same budget.
+        CHECK(std::abs(double(scaled->stats.occluded_links) - double(base->stats.occluded_links)) <=
+              5e-3 * base->stats.links);
         // Radiosity (W/m^2) does not depend on the scale. Float rounding of the positions
         // differs (1e-7 relative), which can flip a grazing shadow ray where the block stands
         // on the floor (one of 9 rays of a link): elements within 1 %, the mean within 3e-4
