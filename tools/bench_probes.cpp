@@ -136,10 +136,7 @@ int main(int argc, char** argv) {
     const auto scene = importScene(path, import_options, diagnostics);
     if (!scene) return 1;
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
-    const Quality q = quality == "draft" ? Quality::Draft
-                      : quality == "high" ? Quality::High
-                      : quality == "reference" ? Quality::Reference
-                                              : Quality::Medium;
+    const Quality q = qualityNamed(quality);
     SolverOptions options = SolverOptions::forQuality(q);
     Progress progress(false);
     ParallelRunner runner(Threading{});

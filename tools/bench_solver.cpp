@@ -69,10 +69,7 @@ int main(int argc, char** argv) {
     const auto scene = importScene(path, import_options, diagnostics);
     if (!scene) return 1;
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
-    const Quality q = quality == "draft" ? Quality::Draft
-                      : quality == "high" ? Quality::High
-                      : quality == "reference" ? Quality::Reference
-                                              : Quality::Medium;
+    const Quality q = qualityNamed(quality);
     std::printf("%-6s %3s %9s %8s %8s %9s %8s %9s %6s %5s %8s\n", "mode", "thr", "median_s", "elements", "leaves",
                 "links", "shafts", "occluded", "rays", "iters", "rss_mb");
     for (const std::string& mode_name : split(modes)) {

@@ -39,10 +39,7 @@ int main(int argc, char** argv) {
     };
     const auto scene = importScene(path, ImportOptions{}, diagnostics);
     if (!scene || mesh_index >= scene->meshes.size()) return 1;
-    const Quality q = quality == "draft" ? Quality::Draft
-                      : quality == "high" ? Quality::High
-                      : quality == "reference" ? Quality::Reference
-                                              : Quality::Medium;
+    const Quality q = qualityNamed(quality);
     const BakeOptions preset = BakeOptions::forQuality(q);
     Progress progress(false);
     ParallelRunner runner(Threading{.threads = threads});

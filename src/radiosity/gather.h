@@ -4,7 +4,6 @@
 // the sources of the links that reach the point's element.
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <span>
 #include <vector>
 
@@ -189,13 +188,7 @@ struct Gatherer {
     // factor.) Only without the coarse rule, whose opening is finer anyway.
     bool radiosityVaries(const Element& e, double distance) const {
         if (coarse_rule || !(distance > 0.0)) return false;
-        double lo = std::numeric_limits<double>::max(), hi = 0.0;
-        for (uint32_t c = 0; c < e.child_count; ++c) {
-            const double b = maxChannel(s.elements[e.first_child + c].radiosity);
-            lo = std::min(lo, b);
-            hi = std::max(hi, b);
-        }
-        return (hi - lo) * e.radius > kSmoothOpening * maxChannel(e.radiosity) * distance;
+        return childRadiositySpread(s, e) * e.radius > kSmoothOpening * maxChannel(e.radiosity) * distance;
     }
 
     // The form factor of the next element visited, when the caller has computed it

@@ -153,17 +153,8 @@ bool locallyInaccurate(const RefineState& state, uint32_t receiver, const Elemen
     const Element& r = state.solution.elements[receiver];
     if (splittable(state, r) || !splittable(state, source)) return false;
     const double allowed = state.options.local_error_threshold * receiverIrradiance(state, receiver);
-    double varies = spread * maxChannel(source.radiosity);
-    if (!source.isLeaf()) {
-        double lo = std::numeric_limits<double>::max(), hi = 0.0;
-        for (uint32_t c = 0; c < source.child_count; ++c) {
-            const double b = maxChannel(state.solution.elements[source.first_child + c].radiosity);
-            lo = std::min(lo, b);
-            hi = std::max(hi, b);
-        }
-        varies += form_factor * (hi - lo);
-    }
-    return varies > allowed;
+    return spread * maxChannel(source.radiosity) + form_factor * childRadiositySpread(state.solution, source) >
+           allowed;
 }
 
 // Either rule asks for a split (the min-area floor and the depth guard still stop it).

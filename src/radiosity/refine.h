@@ -5,6 +5,7 @@
 // element numbering and link order never depend on the thread count.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/parallel.h"
@@ -82,6 +83,18 @@ inline double refinementFraction(double levels) { return 1.0 - std::pow(0.7, lev
 
 // Helper: the largest channel.
 inline double maxChannel(const DVec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// The spread of an element's children's radiosity (largest channel), B_max - B_min; 0 for a leaf.
+inline double childRadiositySpread(const Solution& solution, const Element& e) {
+    if (e.child_count == 0) return 0.0;
+    double lo = std::numeric_limits<double>::max(), hi = 0.0;
+    for (uint32_t c = 0; c < e.child_count; ++c) {
+        const double b = maxChannel(solution.elements[e.first_child + c].radiosity);
+        lo = std::min(lo, b);
+        hi = std::max(hi, b);
+    }
+    return hi - lo;
+}
 
 // The reflectance the refinement oracles weigh a receiver's error by. A black receiver (an
 // emitter with no diffuse colour, a black material) reflects nothing, but what it receives

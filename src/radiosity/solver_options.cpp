@@ -81,4 +81,10 @@ const char* toString(Quality quality) {
     return "?";
 }
 
+Quality qualityNamed(const std::string& name, Quality fallback) {
+    for (const Quality q : {Quality::Draft, Quality::Medium, Quality::High, Quality::Reference})
+        if (name == toString(q)) return q;
+    return fallback;
+}
+
 }  // namespace radbake

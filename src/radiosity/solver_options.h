@@ -85,6 +85,8 @@ struct SolverOptions {
 
 const char* toString(LinkVisibility mode);
 const char* toString(Quality quality);
+// The preset toString names ("draft", "medium", "high", "reference"); `fallback` for any other.
+Quality qualityNamed(const std::string& name, Quality fallback = Quality::Medium);
 
 struct SolveStats {
     size_t elements = 0;
