@@ -27,12 +27,18 @@
 #include "radiosity/solution.h"    // Solution, Element, Link, probeIrradiance
 #include "radiosity/solver.h"      // SolverOptions, SolveStats (solver_options.h)
 #include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera
+#include "scene/two_sided.h"       // addBackTwins, frontMesh
 
 namespace radbake {
 
 // 1. Any supported file (VRML97, VRML 1.0, X3D classic, everything Assimp reads) -> a
 //    validated Scene in metres.
 std::optional<Scene> importScene(const std::string& path, const ImportOptions& options, Diagnostics& diagnostics);
+
+// 1b. Two-sided surfaces (scene/two_sided.h): every mesh that is not `solid` gets a back
+//     twin, a mesh of its own with its own light. bake() does it; a caller running the
+//     stages one by one calls it after importScene. Returns how many twins it added.
+size_t addBackTwins(Scene& scene);
 
 // 2. Convex parts with their AABBs and OBBs: the potential occluders of every shaft.
 PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& diagnostics);

@@ -36,6 +36,8 @@ int runInfo(const InfoArgs& args) {
         info["triangles"] = s.triangles;
         info["polygons"] = s.polygons;
         info["meshes"] = scene->meshes.size();
+        info["two_sided_meshes"] = s.two_sided_meshes;
+        info["two_sided_polygons"] = s.two_sided_polygons;
         info["area"] = nine(s.area);
         info["bounds"]["min"] = {nine(s.bounds_min.x), nine(s.bounds_min.y), nine(s.bounds_min.z)};
         info["bounds"]["max"] = {nine(s.bounds_max.x), nine(s.bounds_max.y), nine(s.bounds_max.z)};
@@ -50,6 +52,8 @@ int runInfo(const InfoArgs& args) {
     } else {
         std::printf("scene      %s\n", args.scene.c_str());
         std::printf("meshes     %zu\n", scene->meshes.size());
+        // Lit on both sides: the bake gives each a back twin, with its own light and outputs.
+        std::printf("two-sided  %zu meshes, %zu polygons\n", s.two_sided_meshes, s.two_sided_polygons);
         std::printf("polygons   %zu\n", s.polygons);
         std::printf("triangles  %zu\n", s.triangles);
         std::printf("area       %.6g m^2\n", s.area);

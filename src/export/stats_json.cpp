@@ -65,6 +65,8 @@ std::string formatStatsJson(const BakeReport& r) {
     out["meshes"] = r.meshes;
     out["vertices"] = r.vertices;
     out["triangles"] = r.triangles;
+    // Only when there are some: a one-sided scene's stats.json keeps its bytes.
+    if (r.two_sided_meshes > 0) out["two_sided_meshes"] = r.two_sided_meshes;
     out["probes"] = r.probes;
     const LightmapReport& l = r.lightmaps;
     out["lightmaps"] = l.baked;

@@ -361,6 +361,13 @@ void addPart(PartSet& set, ConvexPart part, uint32_t mesh) {
 void buildMeshParts(const Scene& scene, uint32_t mesh_index, const PartOptions& options, PartSet& set,
                     Diagnostics& diagnostics) {
     const Mesh& mesh = scene.meshes[mesh_index];
+    if (mesh.back && mesh.twin < mesh_index) {
+        // A back twin is its front's surface: the front's parts stand for it (a coincident
+        // copy would only be a potential occluder of every link its own side makes).
+        set.part_mesh[mesh_index] = mesh.twin;
+        set.polygon_part[mesh_index] = set.polygon_part[mesh.twin];
+        return;
+    }
     const uint32_t polygon_count = mesh.triangle_polygon.size() == mesh.triangles.size()
                                        ? mesh.polygon_count
                                        : uint32_t(mesh.triangles.size());
@@ -372,7 +379,9 @@ void buildMeshParts(const Scene& scene, uint32_t mesh_index, const PartOptions& 
         return;
     }
 
-    if (mesh.convex_solid || options.detect_convex_solids) {
+    // A two-sided surface is seen from inside too: never a solid, whatever its shape.
+    const bool two_sided = mesh.twin != kNoMesh;
+    if (!two_sided && (mesh.convex_solid || options.detect_convex_solids)) {
         // Only the vertices the triangles use: readers may leave unused ones behind.
         std::vector<char> used(w.points.size(), 0);
         for (const WTri& t : tris) used[t.v[0]] = used[t.v[1]] = used[t.v[2]] = 1;
@@ -472,6 +481,8 @@ ConvexPart partFromPoints(const std::vector<DVec3>& points, double relative_tole
 PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& diagnostics) {
     PartSet set;
     set.polygon_part.resize(scene.meshes.size());
+    set.part_mesh.resize(scene.meshes.size());
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) set.part_mesh[m] = m;
     for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
         try {
             buildMeshParts(scene, m, options, set, diagnostics);

@@ -13,6 +13,7 @@
 #include "io/import.h"
 #include "pipeline/solution_cache.h"
 #include "radiosity/solver.h"
+#include "scene/two_sided.h"
 
 namespace radbake {
 namespace {
@@ -82,6 +83,7 @@ void fillSceneReport(const Scene& scene, Bake& out) {
     for (const Mesh& mesh : scene.meshes) {
         report.vertices += mesh.positions.size();
         report.triangles += mesh.triangles.size();
+        report.two_sided_meshes += mesh.back ? 1 : 0;
     }
     report.probes = out.options.probes ? out.options.probes->size() : 0;
 }
@@ -229,6 +231,7 @@ Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progres
     Bake out;
     out.options = options;
     out.scene = std::move(scene);
+    addBackTwins(*out.scene);  // before every stage: each side of a two-sided mesh is a mesh of its own
     fillSceneReport(*out.scene, out);
     try {
         bakeStages(out, progress, diagnostics);
