@@ -67,6 +67,7 @@ std::string formatStatsJson(const BakeReport& r) {
     out["triangles"] = r.triangles;
     // Only when there are some: a one-sided scene's stats.json keeps its bytes.
     if (r.two_sided_meshes > 0) out["two_sided_meshes"] = r.two_sided_meshes;
+    if (r.two_sided_closed_meshes > 0) out["two_sided_closed_meshes"] = r.two_sided_closed_meshes;
     out["probes"] = r.probes;
     const LightmapReport& l = r.lightmaps;
     out["lightmaps"] = l.baked;

@@ -39,6 +39,7 @@ struct BakeReport {
     double peak_rss_mb = 0.0;  // timings.json
     size_t meshes = 0, vertices = 0, triangles = 0, probes = 0;  // as written: back twins included
     size_t two_sided_meshes = 0;  // meshes given a back twin (scene/two_sided.h)
+    size_t two_sided_closed_meshes = 0;  // two-sided, but closed and dark inside: no twin
     int warnings = 0;
     LightmapReport lightmaps;
 };

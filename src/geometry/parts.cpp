@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <cstring>
 #include <exception>
 #include <unordered_map>
 #include <unordered_set>
@@ -11,6 +10,7 @@
 #include "geometry/box.h"
 #include "geometry/hull.h"
 #include "geometry/polygon.h"
+#include "scene/weld.h"
 
 namespace radbake {
 
@@ -27,35 +27,8 @@ double toleranceFor(std::span<const DVec3> points, double relative) {
 
 uint64_t edgeKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 
-// Mesh vertices welded by exact position: readers split vertices by normal or UV, but
-// adjacency is about positions.
-struct Welded {
-    std::vector<DVec3> points;
-    std::vector<uint32_t> id;  // mesh vertex -> welded index
-};
-
-Welded weld(const Mesh& mesh) {
-    struct Hash {
-        size_t operator()(const Vec3& v) const {
-            uint32_t b[3];
-            std::memcpy(b, &v, sizeof b);
-            return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
-        }
-    };
-    Welded w;
-    std::unordered_map<Vec3, uint32_t, Hash> index;
-    w.id.resize(mesh.positions.size());
-    for (size_t i = 0; i < mesh.positions.size(); ++i) {
-        Vec3 p = mesh.positions[i];
-        if (p.x == 0.0f) p.x = 0.0f;  // -0 and +0 weld
-        if (p.y == 0.0f) p.y = 0.0f;
-        if (p.z == 0.0f) p.z = 0.0f;
-        const auto [it, inserted] = index.emplace(p, uint32_t(w.points.size()));
-        if (inserted) w.points.push_back(DVec3(p));
-        w.id[i] = it->second;
-    }
-    return w;
-}
+// Vertices welded by position (scene/weld.h): adjacency is about positions.
+using Welded = WeldedPositions;
 
 // Welded triangles of the mesh with their polygon, without topologically degenerate ones.
 struct WTri {
@@ -372,7 +345,7 @@ void buildMeshParts(const Scene& scene, uint32_t mesh_index, const PartOptions& 
                                        ? mesh.polygon_count
                                        : uint32_t(mesh.triangles.size());
     set.polygon_part[mesh_index].assign(polygon_count, kNoPart);
-    const Welded w = weld(mesh);
+    const Welded w = weldPositions(mesh);
     const std::vector<WTri> tris = weldedTriangles(mesh, w);
     if (tris.empty()) {
         set.stats.degenerate_polygons += polygon_count;

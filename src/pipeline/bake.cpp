@@ -84,6 +84,7 @@ void fillSceneReport(const Scene& scene, Bake& out) {
         report.vertices += mesh.positions.size();
         report.triangles += mesh.triangles.size();
         report.two_sided_meshes += mesh.back ? 1 : 0;
+        report.two_sided_closed_meshes += mesh.closed_two_sided ? 1 : 0;
     }
     report.probes = out.options.probes ? out.options.probes->size() : 0;
 }

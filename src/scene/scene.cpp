@@ -29,6 +29,7 @@ SceneSummary summarize(const Scene& scene) {
         // A back twin (scene/two_sided.h) is its front's surface seen from behind: counted
         // once, as a two-sided mesh, not as more triangles or area.
         if (mesh.back) continue;
+        summary.two_sided_closed_meshes += mesh.closed_two_sided ? 1 : 0;
         if (!mesh.solid && !mesh.triangles.empty()) {
             ++summary.two_sided_meshes;
             summary.two_sided_polygons += mesh.polygon_count;

@@ -72,6 +72,9 @@ struct Mesh {
     // marks the back twin (reversed winding, negated normals), which follows every original mesh.
     uint32_t twin = kNoMesh;
     bool back = false;
+    // Two-sided in the source, but closed with nothing lit inside (settleClosedTwoSided): its
+    // backs face only its own dark volume, so it is baked one-sided (solid true), exactly.
+    bool closed_two_sided = false;
     float crease_angle = 0.0f;           // radians, for vertex normals
     bool convex_solid = false;           // the reader knows this is one closed convex solid (Box, Cylinder, ...)
     SourceLocation location;             // the node that made it
@@ -123,6 +126,7 @@ struct SceneSummary {
     double area = 0.0;  // total one-sided area
     size_t two_sided_meshes = 0;    // meshes lit on both sides
     size_t two_sided_polygons = 0;  // their polygons
+    size_t two_sided_closed_meshes = 0;  // two-sided in the source, closed and dark inside: one-sided
     Vec3 bounds_min{0.0f};
     Vec3 bounds_max{0.0f};
     size_t materials = 0;

@@ -16,8 +16,21 @@
 
 namespace radbake {
 
-// Appends a back twin for every two-sided mesh that has none yet, links the pair (twin, back)
-// and returns how many it added. Running it again adds nothing.
+// Closed two-sided meshes need no back twin. A mesh that is closed and consistently oriented
+// with its fronts facing out (welded by position, every directed edge once and its reverse
+// once, every edge-connected piece enclosing a positive volume) has backs that face only its
+// own volume, and light enters that volume only from inside it. So when the mesh does not
+// emit (a two-sided emitter's backs emit into its own volume: the outward two-sided furnace),
+// no point or spot light is inside it or on its surface, and no emitting triangle of any mesh
+// reaches into it (a corner or centroid inside or on the surface, or an edge crossing it), its
+// backs are dark, H = 0 exactly: this marks it closed_two_sided and solid (one-sided from here
+// on, a closed solid occluder in the parts again) and returns how many it marked. Open, inside-out
+// or lit meshes are left two-sided. addBackTwins runs it first; `radbake info` reports it.
+size_t settleClosedTwoSided(Scene& scene);
+
+// Appends a back twin for every two-sided mesh that has none yet (after settleClosedTwoSided,
+// which it runs first), links the pair (twin, back) and returns how many it added. Running it
+// again adds nothing.
 size_t addBackTwins(Scene& scene);
 
 // The mesh whose surface this one is: itself, or for a back twin its front.

@@ -2,6 +2,9 @@
 // that validation never reports a twin as an overlap.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "scene/scene.h"
 #include "scene/two_sided.h"
 #include "scene/validate.h"
@@ -86,4 +89,137 @@ TEST_CASE("validation does not take a back twin for an overlap") {
     CHECK(validateScene(scene, diagnostics));
     CHECK(diagnostics.warningCount() == 0);
     CHECK(scene.meshes.size() == 2);
+}
+
+// --- closed two-sided meshes (settleClosedTwoSided) -----------------------------------------
+
+namespace {
+
+// The cube [0,1]^3 as six quads facing out, vertices not shared between faces (the weld joins them).
+Mesh cube(bool solid, bool inward = false, bool skip_top = false) {
+    Mesh mesh;
+    mesh.name = "cube";
+    const auto face = [&](std::vector<Vec3> loop) {
+        if (inward) std::reverse(loop.begin(), loop.end());
+        const uint32_t base = uint32_t(mesh.positions.size());
+        for (const Vec3& p : loop) mesh.positions.push_back(p);
+        mesh.triangles.push_back(UVec3(base, base + 1, base + 2));
+        mesh.triangles.push_back(UVec3(base, base + 2, base + 3));
+        mesh.triangle_polygon.push_back(mesh.polygon_count);
+        mesh.triangle_polygon.push_back(mesh.polygon_count);
+        ++mesh.polygon_count;
+    };
+    face({{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}});  // -z
+    if (!skip_top) face({{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}});  // +z
+    face({{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}});  // -y
+    face({{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}});  // +y
+    face({{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}});  // -x
+    face({{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}});  // +x
+    mesh.solid = solid;
+    return mesh;
+}
+
+Scene sceneWith(std::vector<Mesh> meshes) {
+    Scene scene;
+    scene.materials.push_back(Material{});
+    Material lamp;
+    lamp.emission = Vec3(1.0f);
+    scene.materials.push_back(lamp);  // material 1 emits
+    scene.meshes = std::move(meshes);
+    return scene;
+}
+
+Light pointLight(Vec3 position) {
+    Light light;
+    light.type = LightType::Point;
+    light.position = position;
+    return light;
+}
+
+// A one-sided emitting triangle (material 1).
+Mesh lampTriangle(Vec3 a, Vec3 b, Vec3 c) {
+    Mesh mesh;
+    mesh.name = "lamp";
+    mesh.positions = {a, b, c};
+    mesh.triangles = {UVec3(0, 1, 2)};
+    mesh.triangle_polygon = {0};
+    mesh.polygon_count = 1;
+    mesh.material = 1;
+    return mesh;
+}
+
+}  // namespace
+
+TEST_CASE("a closed two-sided mesh with nothing lit inside needs no back twin") {
+    Scene scene = sceneWith({cube(false)});
+    scene.lights.push_back(pointLight(Vec3(3, 0.5f, 0.5f)));  // outside
+    const SceneSummary before = summarize(scene);
+    CHECK(before.two_sided_meshes == 1);
+    CHECK(addBackTwins(scene) == 0);
+    REQUIRE(scene.meshes.size() == 1);
+    CHECK(scene.meshes[0].solid);  // baked one-sided: its backs are dark
+    CHECK(scene.meshes[0].closed_two_sided);
+    CHECK(scene.meshes[0].twin == kNoMesh);
+    const SceneSummary after = summarize(scene);
+    CHECK(after.two_sided_meshes == 0);
+    CHECK(after.two_sided_closed_meshes == 1);
+    CHECK(after.polygons == before.polygons);
+}
+
+TEST_CASE("a two-sided mesh keeps its back twin unless it is provably dark inside") {
+    SUBCASE("open: one face missing") {
+        Scene scene = sceneWith({cube(false, false, true)});
+        CHECK(addBackTwins(scene) == 1);
+    }
+    SUBCASE("inside out: its fronts face its own volume") {
+        Scene scene = sceneWith({cube(false, true)});
+        CHECK(addBackTwins(scene) == 1);
+    }
+    SUBCASE("a point light inside") {
+        Scene scene = sceneWith({cube(false)});
+        scene.lights.push_back(pointLight(Vec3(0.5f)));
+        CHECK(addBackTwins(scene) == 1);
+    }
+    SUBCASE("a spot light on its surface") {
+        Scene scene = sceneWith({cube(false)});
+        Light spot = pointLight(Vec3(0.5f, 0.5f, 1.0f));
+        spot.type = LightType::Spot;
+        scene.lights.push_back(spot);
+        CHECK(addBackTwins(scene) == 1);
+    }
+    SUBCASE("a point light on a corner") {
+        Scene scene = sceneWith({cube(false)});
+        scene.lights.push_back(pointLight(Vec3(1.0f)));
+        CHECK(addBackTwins(scene) == 1);
+    }
+    SUBCASE("an emitting triangle of another mesh inside") {
+        Scene scene = sceneWith({cube(false), lampTriangle({0.2f, 0.2f, 0.5f}, {0.8f, 0.2f, 0.5f}, {0.5f, 0.8f, 0.5f})});
+        CHECK(addBackTwins(scene) == 1);
+        CHECK(scene.meshes[0].twin == 2);
+    }
+    SUBCASE("an emitting triangle passing through it, every corner outside") {
+        Scene scene = sceneWith({cube(false), lampTriangle({-5, 0.5f, -5}, {5, 0.5f, -5}, {0, 0.5f, 5})});
+        CHECK(addBackTwins(scene) == 1);
+    }
+    SUBCASE("an emitting triangle piercing one face, every corner outside") {
+        // A long thin triangle through the box along x, its corners beyond both ends.
+        Scene scene = sceneWith({cube(false), lampTriangle({-1, 0.5f, 0.5f}, {2, 0.49f, 0.5f}, {2, 0.51f, 0.5f})});
+        CHECK(addBackTwins(scene) == 1);
+    }
+    SUBCASE("it emits itself: its backs light its own inside") {
+        Scene scene = sceneWith({cube(false)});
+        scene.meshes[0].material = 1;
+        CHECK(addBackTwins(scene) == 1);
+    }
+}
+
+TEST_CASE("lights and emitters outside a closed two-sided mesh leave it dark inside") {
+    Scene scene = sceneWith({cube(false), lampTriangle({-1, -1, 2}, {2, -1, 2}, {0.5f, 2, 2})});
+    scene.lights.push_back(pointLight(Vec3(0.5f, 0.5f, 1.001f)));  // just above the top face
+    Light sun;
+    sun.type = LightType::Directional;
+    scene.lights.push_back(sun);
+    CHECK(addBackTwins(scene) == 0);
+    CHECK(scene.meshes[0].closed_two_sided);
+    CHECK_FALSE(scene.meshes[1].closed_two_sided);  // one-sided from the start
 }

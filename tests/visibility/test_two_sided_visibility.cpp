@@ -20,6 +20,10 @@ Scene twoSidedBox() {
     Mesh box = boxMesh(Vec3(0.5f), Quat(1, 0, 0, 0), Vec3(0.5f));  // [0,1]^3, faces out
     box.solid = false;
     scene.meshes.push_back(box);
+    // Lit inside, so it keeps its back twin (a closed two-sided mesh dark inside needs none).
+    Light light;
+    light.position = Vec3(0.5f);
+    scene.lights.push_back(light);
     addBackTwins(scene);
     return scene;
 }
@@ -45,6 +49,15 @@ TEST_CASE("parts: a two-sided closed box is flat parts, and its back twin shares
     one_sided.meshes.push_back(boxMesh(Vec3(0.5f), Quat(1, 0, 0, 0), Vec3(0.5f)));
     addBackTwins(one_sided);
     CHECK(buildParts(one_sided, PartOptions{}, diagnostics).stats.closed_parts == 1);
+
+    // So does the two-sided box dark inside: it gets no twin and is baked one-sided.
+    Scene dark;
+    dark.materials.push_back(Material{});
+    dark.meshes.push_back(boxMesh(Vec3(0.5f), Quat(1, 0, 0, 0), Vec3(0.5f)));
+    dark.meshes[0].solid = false;
+    CHECK(addBackTwins(dark) == 0);
+    CHECK(dark.meshes[0].closed_two_sided);
+    CHECK(buildParts(dark, PartOptions{}, diagnostics).stats.closed_parts == 1);
 }
 
 TEST_CASE("rays: a back twin is not cast against twice, and a hit from behind names it") {
