@@ -84,6 +84,15 @@ usemtl lamp
 f 5 6 7 8
 )";
 
+// The end of a glTF file whose accessor 0 is one triangle (0,0,0), (1,0,0), (0,1,0).
+const std::string kUnitTriangleBuffers = R"(
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "buffers": [{"byteLength": 36,
+    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
+})";
+
 }  // namespace
 
 TEST_CASE("OBJ quad stays one polygon of two triangles; MTL Kd and Ke mapped") {
@@ -221,12 +230,7 @@ TEST_CASE("glTF node transforms are baked into world space") {
   "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
   "materials": [{"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1]},
                  "emissiveFactor": [1, 0, 0]}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]}],
-  "bufferViews": [{"buffer": 0, "byteLength": 36}],
-  "buffers": [{"byteLength": 36,
-    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
-})");
+)" + kUnitTriangleBuffers);
     Diagnostics diagnostics;
     std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
     REQUIRE(scene);
@@ -256,12 +260,7 @@ TEST_CASE("glTF doubleSided (through Assimp's AI_MATKEY_TWOSIDED) makes a two-si
   "meshes": [{"name": "thin", "primitives": [{"attributes": {"POSITION": 0}, "material": 0}]},
              {"name": "plain", "primitives": [{"attributes": {"POSITION": 0}, "material": 1}]}],
   "materials": [{"name": "leaf", "doubleSided": true}, {"name": "paint", "doubleSided": false}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]}],
-  "bufferViews": [{"buffer": 0, "byteLength": 36}],
-  "buffers": [{"byteLength": 36,
-    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
-})");
+)" + kUnitTriangleBuffers);
     Diagnostics diagnostics;
     std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
     REQUIRE(scene);
@@ -371,12 +370,7 @@ TEST_CASE("mirroring node transform keeps the front face (winding reversed)") {
   "scenes": [{"nodes": [0]}],
   "nodes": [{"name": "m", "scale": [-1, 1, 1], "mesh": 0}],
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]}],
-  "bufferViews": [{"buffer": 0, "byteLength": 36}],
-  "buffers": [{"byteLength": 36,
-    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
-})");
+)" + kUnitTriangleBuffers);
     Diagnostics diagnostics;
     std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
     REQUIRE(scene);
