@@ -26,13 +26,15 @@
 #include "pipeline/lightmap_scales.h" // LightmapScaleRule, readLightmapScales
 #include "radiosity/solution.h"    // Solution, Element, Link, probeIrradiance
 #include "radiosity/solver.h"      // SolverOptions, SolveStats (solver_options.h)
+#include "scene/creases.h"         // splitHardEdges
 #include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera
 #include "scene/two_sided.h"       // addBackTwins, frontMesh
 
 namespace radbake {
 
 // 1. Any supported file (VRML97, VRML 1.0, X3D classic, everything Assimp reads) -> a
-//    validated Scene in metres.
+//    validated Scene in metres, its vertices split at hard edges (scene/creases.h:
+//    splitHardEdges, which a Scene built in memory can call too).
 std::optional<Scene> importScene(const std::string& path, const ImportOptions& options, Diagnostics& diagnostics);
 
 // 1b. Two-sided surfaces (scene/two_sided.h): every mesh that is not `solid` gets a back

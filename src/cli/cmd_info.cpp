@@ -37,6 +37,9 @@ int runInfo(const InfoArgs& args) {
         info["name"] = scene->name;
         info["triangles"] = s.triangles;
         info["polygons"] = s.polygons;
+        info["vertices"] = s.vertices;
+        info["hard_edge_vertices"] = scene->crease_split.vertices;
+        info["hard_edge_copies"] = scene->crease_split.added;
         info["meshes"] = scene->meshes.size();
         info["two_sided_meshes"] = s.two_sided_meshes;
         info["two_sided_polygons"] = s.two_sided_polygons;
@@ -61,6 +64,8 @@ int runInfo(const InfoArgs& args) {
         std::printf("           %zu closed, dark inside: one-sided\n", s.two_sided_closed_meshes);
         std::printf("polygons   %zu\n", s.polygons);
         std::printf("triangles  %zu\n", s.triangles);
+        std::printf("vertices   %zu (%zu split at hard edges, %zu copies)\n", s.vertices,
+                    scene->crease_split.vertices, scene->crease_split.added);
         std::printf("area       %.6g m^2\n", s.area);
         std::printf("bounds     [%.6g %.6g %.6g] .. [%.6g %.6g %.6g]\n", s.bounds_min.x, s.bounds_min.y,
                     s.bounds_min.z, s.bounds_max.x, s.bounds_max.y, s.bounds_max.z);

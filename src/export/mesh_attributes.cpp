@@ -1,5 +1,6 @@
 #include "export/mesh_attributes.h"
 
+#include <cmath>
 #include <string>
 
 namespace radbake {
@@ -18,13 +19,20 @@ std::vector<Vec3> vertexNormals(const Mesh& mesh) {
     if (mesh.normals.size() == n) {
         for (size_t v = 0; v < n; ++v) sums[v] = DVec3(mesh.normals[v]);
     } else {
+        // Weighted by each corner's angle: a polygon then counts as a whole whichever way it
+        // was cut into triangles (area weights tilt a cylinder's normals towards the side
+        // whose quad gives the vertex two triangles).
         for (const UVec3& t : mesh.triangles) {
             if (t.x >= n || t.y >= n || t.z >= n) continue;
-            const DVec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
-            const DVec3 twice_area_normal = glm::cross(b - a, c - a);  // length = 2 * area: area weighting
-            sums[t.x] += twice_area_normal;
-            sums[t.y] += twice_area_normal;
-            sums[t.z] += twice_area_normal;
+            const DVec3 p[3] = {DVec3(mesh.positions[t.x]), DVec3(mesh.positions[t.y]), DVec3(mesh.positions[t.z])};
+            const DVec3 cross = glm::cross(p[1] - p[0], p[2] - p[0]);
+            const double length = glm::length(cross);
+            if (!(length > 0.0) || !std::isfinite(length)) continue;
+            for (int k = 0; k < 3; ++k) {
+                const DVec3 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
+                const double angle = std::atan2(glm::length(glm::cross(u, w)), glm::dot(u, w));
+                sums[t[k]] += angle * (cross / length);
+            }
         }
     }
     std::vector<Vec3> normals(n);
@@ -89,27 +97,9 @@ bool checkLightmapsMatchScene(const Scene& scene, const LightmapFiles& lightmaps
 }
 
 std::vector<Vec3> lightmapVertexNormals(const Mesh& mesh, const LightmapMesh& lightmap_mesh) {
-    const size_t n = lightmap_mesh.positions.size();
-    std::vector<Vec3> out(n, Vec3(0.0f, 0.0f, 1.0f));
-    if (mesh.normals.size() == mesh.positions.size()) {
-        const std::vector<Vec3> source = vertexNormals(mesh);
-        for (size_t v = 0; v < n; ++v) out[v] = unitOrUp(DVec3(interpolateSource(lightmap_mesh, v, source)));
-        return out;
-    }
-    // Each vertex takes the face normal of the first triangle that uses it (all of a
-    // vertex's triangles lie on one source face or on coplanar ones).
-    std::vector<bool> set(n, false);
-    for (size_t t = 0; t < lightmap_mesh.triangles.size(); ++t) {
-        const UVec3& source = mesh.triangles[lightmap_mesh.source_triangle[t]];
-        const DVec3 a(mesh.positions[source.x]), b(mesh.positions[source.y]), c(mesh.positions[source.z]);
-        const Vec3 normal = unitOrUp(glm::cross(b - a, c - a));
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t v = lightmap_mesh.triangles[t][k];
-            if (set[v]) continue;
-            out[v] = normal;
-            set[v] = true;
-        }
-    }
+    const std::vector<Vec3> source = vertexNormals(mesh);
+    std::vector<Vec3> out(lightmap_mesh.positions.size());
+    for (size_t v = 0; v < out.size(); ++v) out[v] = unitOrUp(DVec3(interpolateSource(lightmap_mesh, v, source)));
     return out;
 }
 

@@ -10,8 +10,10 @@
 namespace radbake {
 
 // Unit normal per vertex: the mesh's own normals when it has one per vertex, otherwise the
-// area-weighted sum of the normals of the triangles using the vertex. A vertex whose sum
-// vanishes (unused, or only degenerate triangles) gets +Z, so files always hold unit normals.
+// corner-angle-weighted sum of the normals of the triangles using the vertex: after splitHardEdges
+// (scene/creases.h) those are the faces of its crease group, so a hard edge keeps each face's
+// normal and a smooth surface is smooth. A vertex whose sum vanishes (unused, or only
+// degenerate triangles) gets +Z, so files always hold unit normals.
 std::vector<Vec3> vertexNormals(const Mesh& mesh);
 
 // The baked value of every vertex of `mesh`, with missing or non-finite entries as 0;
@@ -23,9 +25,9 @@ std::vector<Vec3> finiteVertexValues(const Mesh& mesh, const std::vector<Vec3>* 
 // of each triangle in one atlas. Otherwise reports (internal error) and returns false.
 bool checkLightmapsMatchScene(const Scene& scene, const LightmapFiles& lightmaps, Diagnostics& diagnostics);
 
-// Unit normal per lightmap vertex: the source mesh's own normals carried over with
-// interpolateSource when it has one per vertex; otherwise the face normal of the source
-// triangle under it (a lightmap mesh is split at chart seams, so faces keep hard edges).
+// Unit normal per lightmap vertex: vertexNormals of the source mesh carried over with
+// interpolateSource (smooth across a chart seam within a crease group, as the glb's mesh
+// without lightmaps is).
 std::vector<Vec3> lightmapVertexNormals(const Mesh& mesh, const LightmapMesh& lightmap_mesh);
 
 // The baked value per lightmap vertex: interpolateSource over finiteVertexValues.

@@ -64,6 +64,8 @@ std::string formatStatsJson(const BakeReport& r) {
     out["max_iterations"] = r.options.max_iterations;
     out["meshes"] = r.meshes;
     out["vertices"] = r.vertices;
+    out["hard_edge_vertices"] = r.hard_edge_vertices;
+    out["hard_edge_copies"] = r.hard_edge_copies;
     out["triangles"] = r.triangles;
     // Only when there are some: a one-sided scene's stats.json keeps its bytes.
     if (r.two_sided_meshes > 0) out["two_sided_meshes"] = r.two_sided_meshes;

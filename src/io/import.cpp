@@ -7,6 +7,7 @@
 
 #include "io/assimp/assimp_reader.h"
 #include "io/vrml/vrml_reader.h"
+#include "scene/creases.h"
 #include "scene/textures.h"
 #include "scene/validate.h"
 
@@ -82,6 +83,9 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
     // before validation (which clamps textured reflectance as it does the materials').
     applyTextures(scene, diagnostics);
     if (!validateScene(scene, diagnostics)) return std::nullopt;
+    // After validation (no degenerate triangles left to misjudge an edge), before the solve:
+    // every later stage sees each face's corners as its own.
+    splitHardEdges(scene);
     return scene;
 }
 

@@ -14,7 +14,8 @@ struct ImportOptions {
 };
 
 // Reads VRML97 / VRML 1.0 with our own reader (also gzipped) and everything else through
-// Assimp, then validates. Returns nullopt after reporting at least one located error.
+// Assimp, then validates and splits vertices at hard edges (scene/creases.h; counted in
+// Scene::crease_split). Returns nullopt after reporting at least one located error.
 std::optional<Scene> importScene(const std::string& path, const ImportOptions& options,
                                  Diagnostics& diagnostics);
 

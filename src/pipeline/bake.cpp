@@ -86,6 +86,8 @@ void fillSceneReport(const Scene& scene, Bake& out) {
         report.two_sided_meshes += mesh.back ? 1 : 0;
         report.two_sided_closed_meshes += mesh.closed_two_sided ? 1 : 0;
     }
+    report.hard_edge_vertices = scene.crease_split.vertices;
+    report.hard_edge_copies = scene.crease_split.added;
     report.probes = out.options.probes ? out.options.probes->size() : 0;
 }
 

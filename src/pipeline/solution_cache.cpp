@@ -101,6 +101,7 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
     for (const Light& l : scene.lights) {
         k.add(l.type), k.add(l.position), k.add(l.direction), k.add(l.color), k.add(l.intensity);
         k.add(l.attenuation), k.add(l.radius), k.add(l.beam_width), k.add(l.cut_off_angle), k.add(l.on);
+        k.add(l.scoped), k.addAll(l.scope);
     }
     // Every knob but max_memory_mb (a budget stops a solve, it does not change it).
     k.add(o.visibility), k.add(o.quality), k.add(o.error_threshold), k.add(o.min_element_area);

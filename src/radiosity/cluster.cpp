@@ -288,7 +288,7 @@ ClusterRefiner::ClusterRefiner(RefineState& state) : state_(state) {
         double rho = 0.0, radius = 0.0;
         if (cluster.isLeaf()) {
             for (uint32_t k = cluster.first_member; k < cluster.first_member + cluster.member_count; ++k) {
-                rho = std::max(rho, maxChannel(s.elements[s.cluster_members[k]].reflectance));
+                rho = std::max(rho, oracleReflectance(s.elements[s.cluster_members[k]].reflectance));
                 radius = std::max(radius, s.elements[s.cluster_members[k]].radius);
             }
         } else {
@@ -399,10 +399,10 @@ double ClusterRefiner::irradianceBound(uint32_t receiver, uint32_t source) const
 double ClusterRefiner::bound(uint32_t receiver, uint32_t source) const {
     const Solution& s = state_.solution;
     const double rho = isCluster(receiver) ? cluster_rho_[clusterOf(receiver)]
-                                           : maxChannel(s.elements[receiver].reflectance);
+                                           : oracleReflectance(s.elements[receiver].reflectance);
     const double area = isCluster(receiver) ? s.clusters[clusterOf(receiver)].area : s.elements[receiver].area;
     const double e = irradianceBound(receiver, source);
-    if (!(rho > 0.0) || !(area > 0.0)) return 0.0;  // reflects nothing: misplaces nothing
+    if (!(rho > 0.0) || !(area > 0.0)) return 0.0;  // no area: misplaces nothing
     return rho * area * e;
 }
 
@@ -480,8 +480,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         const double error = bound(r_node, s_node);
         const bool split = error > node_threshold_[keyOf(s, r_node)];
         if (!split && !(error > 0.0)) {
-            // A black receiver reflects nothing: it needs no light. A dark source (no light
-            // yet: the first round knows emission only) is deferred, carrying nothing, until
+            // A dark source (no light yet: the first round knows emission only) is deferred, carrying nothing, until
             // a solve lights it: a room no light reaches then costs no rays (and no shaft).
             ev.decision = Decision::Keep;
             ev.visibility = node_power_[keyOf(s, s_node)] > 0.0 ? 0.0f : kDeferred;

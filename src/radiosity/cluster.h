@@ -71,7 +71,7 @@ private:
     RefineState& state_;
     std::vector<Aabb> root_box_;          // per root
     std::vector<DVec3> root_points_;      // per root: its ray sample points (kPointsPerMember each)
-    std::vector<double> cluster_rho_;     // per cluster: max reflectance (max channel) of its members
+    std::vector<double> cluster_rho_;     // per cluster: max oracleReflectance (refine.h) of its members
     std::vector<double> cluster_radius_;  // per cluster: largest member radius
     std::vector<uint8_t> cluster_flat_;   // per cluster: every member in one plane (cluster_plane_)
     std::vector<Plane> cluster_plane_;

@@ -64,7 +64,7 @@ double piecePointFormFactor(const DVec3& point, const DVec3& normal, std::span<c
         const DVec3 c = glm::cross(r0, r1);
         const double c_len = glm::length(c);
         if (!(c_len > 0.0)) continue;
-        const double angle = std::atan2(c_len, glm::dot(r0, r1));
+        const double angle = atan2Upper(c_len, glm::dot(r0, r1));
         sum += angle * glm::dot(normal, c) / c_len;
     }
     return std::abs(sum) / (2.0 * kPi);

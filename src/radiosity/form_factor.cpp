@@ -208,7 +208,7 @@ double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span
         const DVec3 c = glm::cross(r0, r1);
         const double c_len = glm::length(c);
         if (!(c_len > 0.0)) continue;  // a vertex at the point, or collinear: no area swept
-        const double angle = std::atan2(c_len, glm::dot(r0, r1));
+        const double angle = atan2Upper(c_len, glm::dot(r0, r1));
         sum += angle * glm::dot(normal, c) / c_len;
     }
     return std::abs(sum) / (2.0 * kPi);

@@ -84,9 +84,11 @@ DVec3 lightIrradiance(const Light& light, const RayCaster* caster, const DVec3& 
 }
 
 DVec3 punctualIrradiance(std::span<const Light> lights, const RayCaster* caster, const DVec3& p_world,
-                         const DVec3& n_world, size_t* rays_cast) {
+                         const DVec3& n_world, size_t* rays_cast, uint32_t receiver_mesh) {
     DVec3 total(0.0);
-    for (const Light& light : lights) total += lightIrradiance(light, caster, p_world, n_world, rays_cast);
+    for (const Light& light : lights)
+        if (receiver_mesh == kAnyMesh || light.lights(receiver_mesh))
+            total += lightIrradiance(light, caster, p_world, n_world, rays_cast);
     return total;
 }
 

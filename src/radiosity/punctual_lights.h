@@ -13,8 +13,9 @@
 //   - DirectionalLight: E = intensity * color is the irradiance, in W/m^2, on a surface facing
 //     the light; H = E cos(theta).
 // `ambientIntensity` is ignored: the radiosity solution supplies the indirect light that
-// VRML's ambient term imitates. DirectionalLight's VRML scope (only its sibling nodes) is not
-// kept by the Scene: it lights everything.
+// VRML's ambient term imitates. A scoped light (Light::scope: a VRML97 DirectionalLight lights
+// only its siblings) lights only the meshes of its scope directly; what they reflect reaches
+// the rest through the solution.
 #include <cstddef>
 #include <span>
 
@@ -40,8 +41,13 @@ double attenuationFactor(const Vec3& attenuation, double distance);
 DVec3 lightIrradiance(const Light& light, const RayCaster* caster, const DVec3& p_world, const DVec3& n_world,
                       size_t* rays_cast = nullptr);
 
-// Sum of lightIrradiance over all lights.
+// A receiver on no mesh in particular (a probe: it has no place in the scene graph), lit by
+// every light, scoped or not.
+inline constexpr uint32_t kAnyMesh = UINT32_MAX;
+
+// Sum of lightIrradiance over the lights that light `receiver_mesh` (Light::lights): a point
+// on a surface passes its mesh, so that a scoped light skips the meshes outside its scope.
 DVec3 punctualIrradiance(std::span<const Light> lights, const RayCaster* caster, const DVec3& p_world,
-                         const DVec3& n_world, size_t* rays_cast = nullptr);
+                         const DVec3& n_world, size_t* rays_cast = nullptr, uint32_t receiver_mesh = kAnyMesh);
 
 }  // namespace radbake

@@ -24,7 +24,8 @@ namespace {
 // gather is itself 30-60 % off a path tracer), house.wrl 130 us. A per-source share of
 // 0.3 % instead of a bound on the rest: 45 us a texel for 1.8 % but 26 % on the
 // tessellated box (light leaking under its blocks through many small links); no rays at
-// all: 10 us a texel for 34 %.
+// all: 10 us a texel for 34 %. (Figures from before the gather's horizon-clipped rays and
+// its opening where the light varies, gather.h: since, 1.8 % at the same cost.)
 constexpr double kRayShare = 0.05;
 constexpr double kLinkVisibilityRatio = 0.05;
 constexpr int kLinkVisibilitySplits = 1;
@@ -181,11 +182,9 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
                                    ProbeCounters* counters) const {
     const Solution& s = s_;
     const uint32_t leaf = leafAt(mesh, triangle, p_world);
-    // Only a point on its element's front side reads that element's links, and only a
-    // surface that reflects: the solve links nothing to a black receiver (an emitter, most
-    // often), whose texels still hold what it receives.
-    if (leaf == kNoElement || !(glm::dot(s.elements[leaf].normal, normal) > 0.5) ||
-        !(maxChannel(s.elements[leaf].reflectance) > 0.0))
+    // Only a point on its element's front side reads that element's links (a black receiver
+    // has links too: oracleReflectance in refine.h).
+    if (leaf == kNoElement || !(glm::dot(s.elements[leaf].normal, normal) > 0.5))
         return counters ? probeIrradianceCounted(s, p_world, normal, *counters) : probeIrradiance(s, p_world, normal);
     const uint32_t root = s.elements[leaf].root;
     const double lift = gather::kLift * s.scene_extent;
@@ -254,7 +253,7 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     }
     DVec3 h = g.sum + separable;
     if (s.scene && !s.scene->lights.empty())
-        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal);
+        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
     return h;
 }
 

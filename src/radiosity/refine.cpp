@@ -103,7 +103,7 @@ double linkError(const RefineState& state, const Element& receiver, const Elemen
     const double area = state.options.area_exponent == 1.0
                             ? receiver.area
                             : total * std::pow(receiver.area / total, state.options.area_exponent);
-    return maxChannel(receiver.reflectance) * spread * maxChannel(source.radiosity) * area;
+    return oracleReflectance(receiver.reflectance) * spread * maxChannel(source.radiosity) * area;
 }
 
 // The receiver's irradiance from the last solve; an element made since reads its nearest
@@ -121,13 +121,11 @@ double receiverIrradiance(const RefineState& state, uint32_t element) {
 // receiver, i.e. what gathering it as a constant may misplace there; the source is split
 // while that exceeds local_error_threshold x the receiver's whole irradiance H_R. Splittable
 // receivers are left to the power rule: applied to them too, the rule at 0.2 doubled the
-// Cornell Box's links (x5 on Shadow) for 0.1 % of L2 error. A black receiver reflects
-// nothing, so it needs nothing.
+// Cornell Box's links (x5 on Shadow) for 0.1 % of L2 error.
 bool locallyInaccurate(const RefineState& state, uint32_t receiver, const Element& source, double spread) {
     if (!state.local_active) return false;
     const Element& r = state.solution.elements[receiver];
     if (splittable(state, r) || !splittable(state, source)) return false;
-    if (!(maxChannel(r.reflectance) > 0.0)) return false;
     const double allowed = state.options.local_error_threshold * receiverIrradiance(state, receiver);
     return spread * maxChannel(source.radiosity) > allowed;
 }
@@ -254,7 +252,7 @@ void computeDirectLight(RefineState& state) {
                 const auto points = stratifiedPolygonPoints(poly.vertices, 3);
                 DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
                 for (const DVec3& p : points) {
-                    const DVec3 h = punctualIrradiance(scene.lights, s.rays.get(), p, e.normal, &rays[k]);
+                    const DVec3 h = punctualIrradiance(scene.lights, s.rays.get(), p, e.normal, &rays[k], e.mesh);
                     sum += h;
                     lo = glm::min(lo, h);
                     hi = glm::max(hi, h);
@@ -273,7 +271,8 @@ void computeDirectLight(RefineState& state) {
             state.direct_done[i] = 1;
             // Refine where the direct light varies (threshold known after the first pass).
             if (state.threshold > 0.0 && e.isLeaf() && splittable(state, e) &&
-                maxChannel(e.reflectance * spread[k]) * e.area > state.thresholdFor(e.root)) {
+                (maxChannel(e.reflectance) > 0.0 ? maxChannel(e.reflectance * spread[k]) : maxChannel(spread[k])) * e.area >
+                    state.thresholdFor(e.root)) {
                 ensureChildren(s, i);
                 split_any = true;
             }

@@ -86,7 +86,7 @@ struct ClusterLink {
     uint32_t source = 0;            // node
     uint32_t candidates = 0xffffffffu;  // potential occluders (RefineState::candidate_pool), to reopen it
     uint32_t kernel = kNoKernel;
-    float visibility = 1.0f;        // 0: every sampled ray was blocked or the receiver is black
+    float visibility = 1.0f;        // 0: every sampled ray was blocked
                                     // (carries nothing); < 0: deferred, its source had no light yet
     float scale = 1.0f;             // separable links: the kernel's calibration on sampled pairs
 };

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace radbake {
@@ -20,6 +21,10 @@ Vec3 polygonEmission(const Scene& scene, const Mesh& mesh, uint32_t polygon) {
     return mesh.material < scene.materials.size() ? scene.materials[mesh.material].emission : Vec3(0.0f);
 }
 
+bool Light::lights(uint32_t mesh) const {
+    return !scoped || std::binary_search(scope.begin(), scope.end(), mesh);
+}
+
 SceneSummary summarize(const Scene& scene) {
     SceneSummary summary;
     summary.materials = scene.materials.size();
@@ -36,6 +41,7 @@ SceneSummary summarize(const Scene& scene) {
         }
         summary.triangles += mesh.triangles.size();
         summary.polygons += mesh.polygon_count;
+        summary.vertices += mesh.positions.size();
         for (size_t t = 0; t < mesh.triangles.size(); ++t) summary.area += triangleArea(mesh, t);
         for (const Vec3& p : mesh.positions) {
             lo = glm::min(lo, p);

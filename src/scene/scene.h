@@ -75,7 +75,9 @@ struct Mesh {
     // Two-sided in the source, but closed with nothing lit inside (settleClosedTwoSided): its
     // backs face only its own dark volume, so it is baked one-sided (solid true), exactly.
     bool closed_two_sided = false;
-    float crease_angle = 0.0f;           // radians, for vertex normals
+    // Radians: an edge whose faces meet at a larger angle is hard, and the vertices along it
+    // are split (scene/creases.h); smaller angles are smooth.
+    float crease_angle = 0.0f;
     bool convex_solid = false;           // the reader knows this is one closed convex solid (Box, Cylinder, ...)
     SourceLocation location;             // the node that made it
 };
@@ -94,7 +96,15 @@ struct Light {
     float beam_width = 1.570796f;        // radians (Spot)
     float cut_off_angle = 0.785398f;     // radians (Spot)
     bool on = true;
+    // The meshes the light reaches, sorted, when `scoped`: a VRML97 DirectionalLight lights
+    // only its siblings and their descendants (ISO/IEC 14772-1, DirectionalLight), a VRML 1.0
+    // light what follows it in its Separator. Not scoped: every mesh (VRML97 PointLight and
+    // SpotLight are global, so are Assimp's lights).
+    bool scoped = false;
+    std::vector<uint32_t> scope;
     SourceLocation location;
+
+    bool lights(uint32_t mesh) const;
 };
 
 struct Camera {
@@ -103,6 +113,13 @@ struct Camera {
     Quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  // rotates the default view (looking down -Z, +Y up)
     float field_of_view = 0.785398f;           // radians, the smaller of the two view angles
     SourceLocation location;
+};
+
+// What splitHardEdges did at import (scene/creases.h).
+struct CreaseSplitCounts {
+    size_t meshes = 0;    // meshes with a hard edge through a shared vertex
+    size_t vertices = 0;  // vertices that were shared across a hard edge
+    size_t added = 0;     // vertices added by splitting them
 };
 
 struct Scene {
@@ -115,6 +132,9 @@ struct Scene {
     // Every file the import read, the scene file first, each once (Inline'd and EXTERNPROTO
     // files, MTL files, ...): what a depfile names and what provenance hashes.
     std::vector<std::string> input_files;
+    CreaseSplitCounts crease_split;
+    // Back twins' polygons covered by a surface in contact (scene/two_sided.h).
+    size_t covered_back_polygons = 0;
 };
 
 // Summary figures used by `radbake info` and by later stages.
@@ -123,6 +143,7 @@ struct SceneSummary {
     // and once in two_sided_meshes.
     size_t triangles = 0;
     size_t polygons = 0;
+    size_t vertices = 0;
     double area = 0.0;  // total one-sided area
     size_t two_sided_meshes = 0;    // meshes lit on both sides
     size_t two_sided_polygons = 0;  // their polygons

@@ -1,12 +1,14 @@
 #include "scene/two_sided.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <optional>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "scene/weld.h"
 
@@ -209,7 +211,208 @@ bool emits(const Scene& scene, const Mesh& mesh) {
     return false;
 }
 
+// --- backs in contact ------------------------------------------------------------------
+//
+// A back twin's triangle T (unit normal m) lies in a zero-width gap where another surface S
+// touches it from in front: coplanar within kContactRelative of the scene's extent, parallel or
+// antiparallel, overlapping, and S's plane at most that far in front of T along m. Nothing
+// reaches T there (the gap is closed) and T sends nothing out of it, so the area is dark
+// exactly, in the limit of zero distance. Left in, T and the surface it faces would exchange
+// nearly all their light across the gap (a form factor near 1 at zero distance): a furnace of
+// two surfaces, which the refinement splits to the minimum area and the solve iterates like
+// rho ~ 1. Exactly coincident S (within float rounding) is a duplicate when it faces the same
+// way as T (a front there already faces that way: T is redundant; of two coincident twins the
+// later one is), and the other side of a zero-thickness sheet when it faces the other way (they
+// exchange nothing: not a gap).
+constexpr double kContactRelative = 1e-5;   // as validate_overlap.cpp's coplanar tolerance
+constexpr double kParallelTolerance = 1e-4; // unit normals' components (validate_overlap.cpp)
+
+// A polygon covered over at most this fraction is left as it is (a sliver along a contact
+// line); one covered over at least kCoveredWhole is dark all over.
+constexpr double kCoveredNegligible = 0.01;
+constexpr double kCoveredWhole = 0.99;
+
+struct PlaneTriangle {
+    std::array<DVec3, 3> p;
+    DVec3 normal{0.0};  // unit, of the front's winding
+    double area = 0.0;
+    uint32_t mesh = 0, triangle = 0;
+};
+
+int dominantAxis(const DVec3& n) {
+    const DVec3 a = glm::abs(n);
+    return a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+}
+
+DVec2 dropAxis(const DVec3& p, int axis) {
+    return axis == 0 ? DVec2(p.y, p.z) : (axis == 1 ? DVec2(p.z, p.x) : DVec2(p.x, p.y));
+}
+
+double cross2(const DVec2& a, const DVec2& b) { return a.x * b.y - a.y * b.x; }
+
+// The area of the intersection of two (nearly) coplanar triangles, in a's plane.
+double overlapArea(const PlaneTriangle& a, const PlaneTriangle& b) {
+    const int axis = dominantAxis(a.normal);
+    std::vector<DVec2> poly, next;
+    std::array<DVec2, 3> clip;
+    for (int k = 0; k < 3; ++k) {
+        clip[k] = dropAxis(a.p[k] - a.p[0], axis);
+        poly.push_back(dropAxis(b.p[k] - a.p[0], axis));
+    }
+    if (cross2(clip[1] - clip[0], clip[2] - clip[0]) < 0.0) std::swap(clip[1], clip[2]);
+    for (int e = 0; e < 3 && poly.size() >= 3; ++e) {
+        const DVec2 from = clip[e], edge = clip[(e + 1) % 3] - clip[e];
+        next.clear();
+        for (size_t i = 0; i < poly.size(); ++i) {
+            const DVec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
+            const double sp = cross2(edge, p - from), sq = cross2(edge, q - from);
+            if (sp >= 0.0) next.push_back(p);
+            if ((sp >= 0.0) != (sq >= 0.0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
+        }
+        poly.swap(next);
+    }
+    double twice = 0.0;
+    for (size_t i = 0; poly.size() >= 3 && i < poly.size(); ++i) twice += cross2(poly[i], poly[(i + 1) % poly.size()]);
+    return 0.5 * std::abs(twice) / std::abs(a.normal[axis]);
+}
+
 }  // namespace
+
+std::vector<std::vector<double>> backContactCoverage(const Scene& scene) {
+    std::vector<std::vector<double>> covered(scene.meshes.size());
+    DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    double max_abs = 0.0;
+    for (const Mesh& mesh : scene.meshes)
+        for (const Vec3& p : mesh.positions) {
+            lo = glm::min(lo, DVec3(p)), hi = glm::max(hi, DVec3(p));
+            max_abs = std::max(max_abs, double(glm::compMax(glm::abs(p))));
+        }
+    if (!(lo.x <= hi.x)) return covered;
+    const double extent = glm::length(hi - lo);
+    const double contact = std::max(kContactRelative * extent, std::numeric_limits<double>::min());
+    // Exactly coincident: float positions of one face reached through different transforms.
+    const double rounding = 16.0 * double(std::numeric_limits<float>::epsilon()) * max_abs;
+    const DVec3 origin = 0.5 * (lo + hi);
+    // Triangles of every surface that is not a back twin (a twin has its front's geometry),
+    // filed under their plane (normal cell, offset cell) both ways round, so that a query
+    // finds parallel and antiparallel ones alike.
+    std::vector<PlaneTriangle> tris;
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        if (mesh.back) continue;
+        for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+            const UVec3& v = mesh.triangles[t];
+            if (v.x >= mesh.positions.size() || v.y >= mesh.positions.size() || v.z >= mesh.positions.size()) continue;
+            PlaneTriangle pt;
+            pt.p = {DVec3(mesh.positions[v.x]), DVec3(mesh.positions[v.y]), DVec3(mesh.positions[v.z])};
+            const DVec3 n = glm::cross(pt.p[1] - pt.p[0], pt.p[2] - pt.p[0]);
+            const double len = glm::length(n);
+            if (!(len > 0.0)) continue;
+            pt.normal = n / len;
+            pt.area = 0.5 * len;
+            pt.mesh = m, pt.triangle = t;
+            tris.push_back(pt);
+        }
+    }
+    const double normal_cell = 4.0 * kParallelTolerance;
+    // Offsets from the scene's centre along nearly parallel normals differ by up to
+    // kParallelTolerance x the extent: cells that wide, and the neighbours searched.
+    const double offset_cell = std::max(4.0 * contact, 2.0 * kParallelTolerance * extent);
+    struct Key {
+        int64_t x, y, z, d;
+        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z && d == o.d; }
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            uint64_t h = uint64_t(k.x) * 0x9E3779B97F4A7C15ull;
+            h = (h ^ uint64_t(k.y)) * 0xC2B2AE3D27D4EB4Full;
+            h = (h ^ uint64_t(k.z)) * 0x165667B19E3779F9ull;
+            h = (h ^ uint64_t(k.d)) * 0x9E3779B97F4A7C15ull;
+            return size_t(h ^ (h >> 29));
+        }
+    };
+    const auto keyOf = [&](const DVec3& n, const DVec3& centre) {
+        return Key{int64_t(std::floor(n.x / normal_cell)), int64_t(std::floor(n.y / normal_cell)),
+                   int64_t(std::floor(n.z / normal_cell)), int64_t(std::floor(glm::dot(n, centre - origin) / offset_cell))};
+    };
+    std::unordered_map<Key, std::vector<uint32_t>, KeyHash> cells;
+    for (uint32_t i = 0; i < tris.size(); ++i) {
+        const DVec3 centre = (tris[i].p[0] + tris[i].p[1] + tris[i].p[2]) / 3.0;
+        cells[keyOf(tris[i].normal, centre)].push_back(i);
+        cells[keyOf(-tris[i].normal, centre)].push_back(i);
+    }
+    std::vector<uint32_t> seen;
+    for (uint32_t i = 0; i < tris.size(); ++i) {
+        const PlaneTriangle& front = tris[i];
+        const Mesh& mesh = scene.meshes[front.mesh];
+        if (mesh.twin == kNoMesh || mesh.twin >= scene.meshes.size()) continue;
+        PlaneTriangle t = front;  // the back: the same corners, facing the other way
+        t.normal = -front.normal;
+        const DVec3 centre = (t.p[0] + t.p[1] + t.p[2]) / 3.0;
+        const Key k = keyOf(t.normal, centre);
+        seen.clear();
+        double area = 0.0;
+        for (int64_t dx = -1; dx <= 1; ++dx)
+            for (int64_t dy = -1; dy <= 1; ++dy)
+                for (int64_t dz = -1; dz <= 1; ++dz)
+                    for (int64_t dd = -1; dd <= 1; ++dd) {
+                        const auto it = cells.find(Key{k.x + dx, k.y + dy, k.z + dz, k.d + dd});
+                        if (it == cells.end()) continue;
+                        for (uint32_t j : it->second) {
+                            if (j == i || std::find(seen.begin(), seen.end(), j) != seen.end()) continue;
+                            seen.push_back(j);
+                            const PlaneTriangle& s = tris[j];
+                            const double align = glm::dot(s.normal, t.normal);
+                            const DVec3 dn = glm::abs(align > 0.0 ? s.normal - t.normal : s.normal + t.normal);
+                            if (dn.x > kParallelTolerance || dn.y > kParallelTolerance || dn.z > kParallelTolerance) continue;
+                            // S's corners measured from T's plane along T's normal, and back.
+                            double d_min = std::numeric_limits<double>::max(), d_max = -d_min, back = 0.0;
+                            for (int c = 0; c < 3; ++c) {
+                                const double d = glm::dot(t.normal, s.p[c] - t.p[0]);
+                                d_min = std::min(d_min, d), d_max = std::max(d_max, d);
+                                back = std::max(back, std::abs(glm::dot(s.normal, t.p[c] - s.p[0])));
+                            }
+                            if (d_min < -contact || d_max > contact || back > contact) continue;
+                            const double gap = 0.5 * (d_min + d_max);
+                            if (gap < -rounding) continue;  // behind T: T faces away from it
+                            if (gap <= rounding) {
+                                // Coincident: a duplicate of T's side (a front, or an earlier
+                                // twin), or the other side of the sheet (no gap).
+                                if (align < 0.0) {
+                                    const Mesh& other = scene.meshes[s.mesh];
+                                    const bool earlier_twin = other.twin != kNoMesh &&
+                                                              (s.mesh < front.mesh || (s.mesh == front.mesh && s.triangle < front.triangle));
+                                    if (!earlier_twin) continue;
+                                }
+                            }
+                            area += overlapArea(t, s);
+                        }
+                    }
+        if (!(area > 0.0)) continue;
+        const uint32_t twin = mesh.twin;
+        const Mesh& back = scene.meshes[twin];
+        std::vector<double>& per_polygon = covered[twin];
+        if (per_polygon.empty()) per_polygon.assign(back.polygon_count, 0.0);
+        const uint32_t polygon = front.triangle < back.triangle_polygon.size() ? back.triangle_polygon[front.triangle] : front.triangle;
+        if (polygon < per_polygon.size()) per_polygon[polygon] += std::min(area, t.area);
+    }
+    // Fractions of each polygon's area.
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+        if (covered[m].empty()) continue;
+        const Mesh& back = scene.meshes[m];
+        std::vector<double> polygon_area(back.polygon_count, 0.0);
+        for (uint32_t t = 0; t < back.triangles.size(); ++t) {
+            const UVec3& v = back.triangles[t];
+            const double a = 0.5 * glm::length(glm::cross(DVec3(back.positions[v.y]) - DVec3(back.positions[v.x]),
+                                                          DVec3(back.positions[v.z]) - DVec3(back.positions[v.x])));
+            const uint32_t polygon = t < back.triangle_polygon.size() ? back.triangle_polygon[t] : t;
+            if (polygon < polygon_area.size()) polygon_area[polygon] += a;
+        }
+        for (uint32_t p = 0; p < covered[m].size(); ++p)
+            covered[m][p] = polygon_area[p] > 0.0 ? std::min(1.0, covered[m][p] / polygon_area[p]) : 0.0;
+    }
+    return covered;
+}
 
 size_t settleClosedTwoSided(Scene& scene) {
     // What can light a volume from inside: punctual lights other than directional ones (those
@@ -247,6 +450,36 @@ size_t settleClosedTwoSided(Scene& scene) {
     return settled;
 }
 
+size_t coverBacksInContact(Scene& scene) {
+    const std::vector<std::vector<double>> covered = backContactCoverage(scene);
+    size_t count = 0;
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+        if (covered[m].empty()) continue;
+        Mesh& back = scene.meshes[m];
+        bool any = false;
+        for (double f : covered[m]) any = any || f > kCoveredNegligible;
+        if (!any) continue;
+        // Per polygon from here on (the twin's own copy; its front keeps the material's).
+        if (back.polygon_reflectance.size() < back.polygon_count)
+            for (uint32_t p = uint32_t(back.polygon_reflectance.size()); p < back.polygon_count; ++p)
+                back.polygon_reflectance.push_back(polygonReflectance(scene, back, p));
+        if (back.polygon_emission.size() < back.polygon_count)
+            for (uint32_t p = uint32_t(back.polygon_emission.size()); p < back.polygon_count; ++p)
+                back.polygon_emission.push_back(polygonEmission(scene, back, p));
+        for (uint32_t p = 0; p < back.polygon_count; ++p) {
+            const double f = covered[m][p];
+            if (!(f > kCoveredNegligible)) continue;
+            // The covered part neither reflects nor emits: the polygon's mean over its area.
+            const float open = f >= kCoveredWhole ? 0.0f : float(1.0 - f);
+            back.polygon_reflectance[p] *= open;
+            back.polygon_emission[p] *= open;
+            ++count;
+        }
+    }
+    scene.covered_back_polygons += count;
+    return count;
+}
+
 size_t addBackTwins(Scene& scene) {
     settleClosedTwoSided(scene);
     const size_t original = scene.meshes.size();
@@ -261,6 +494,22 @@ size_t addBackTwins(Scene& scene) {
         scene.meshes.push_back(std::move(back));
         ++added;
     }
+    coverBacksInContact(scene);
+    // A scoped light (Light::scope, mesh indices) lights a surface on both sides: the twins
+    // just appended carry new indices, so each joins the scope of every light that lights its
+    // front. Twins follow every original mesh with increasing indices, so the scope stays sorted.
+    if (added > 0)
+        for (Light& light : scene.lights) {
+            if (!light.scoped) continue;
+            const size_t in_scope = light.scope.size();
+            for (size_t i = 0; i < in_scope; ++i) {
+                const uint32_t front = light.scope[i];
+                if (front < original && scene.meshes[front].twin != kNoMesh && !scene.meshes[front].back)
+                    light.scope.push_back(scene.meshes[front].twin);
+            }
+            std::sort(light.scope.begin(), light.scope.end());
+            light.scope.erase(std::unique(light.scope.begin(), light.scope.end()), light.scope.end());
+        }
     return added;
 }
 

@@ -11,6 +11,7 @@
 // with the same polygon numbering.
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -32,6 +33,22 @@ size_t settleClosedTwoSided(Scene& scene);
 // which it runs first), links the pair (twin, back) and returns how many it added. Running it
 // again adds nothing.
 size_t addBackTwins(Scene& scene);
+
+// Per mesh, per polygon: the fraction of a back twin's polygon in contact with another surface
+// that covers it from in front (two_sided.cpp: a zero-width gap, dark exactly); empty for
+// meshes that are not back twins or have nothing covered.
+std::vector<std::vector<double>> backContactCoverage(const Scene& scene);
+
+// Backs in a zero-width gap (two_sided.cpp): a back twin's polygon that another surface
+// touches from in front (coplanar within 1e-5 of the extent, overlapping, no farther in front
+// than that) is dark over the covered part, exactly in the limit of zero distance; left as it
+// is, it and the surface it faces trade nearly all their light across the gap (a form factor
+// near 1, row sums above 1 with duplicates), a two-surface furnace that graz.wrl's solve iterated
+// 148 times. Each such polygon's reflectance and emission are scaled by its open fraction (0
+// when covered over 99 %, unchanged under 1 %); geometry and occlusion are untouched, so no
+// light passes through anything. addBackTwins runs it on the twins it adds; returns how many
+// polygons it changed (added to Scene::covered_back_polygons).
+size_t coverBacksInContact(Scene& scene);
 
 // The mesh whose surface this one is: itself, or for a back twin its front.
 inline uint32_t frontMesh(const Scene& scene, uint32_t mesh) {

@@ -29,3 +29,17 @@ TEST_CASE("info --json counts the scene and names every file read, the Inline'd 
     CHECK(info["input_files"][0].get<std::string>().ends_with("top \"quoted\".wrl"));
     CHECK(info["input_files"][1].get<std::string>().ends_with("part.wrl"));
 }
+
+TEST_CASE("info counts the vertices split at hard edges") {
+    const TempDir tmp;
+    writeText(tmp.path / "box.wrl", "#VRML V2.0 utf8\nShape { geometry Box { } }\nShape { geometry Sphere { } }\n");
+    const RunResult run = runRadbake("info " + quote(tmp.path / "box.wrl") + " --json");
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const nlohmann::json info = nlohmann::json::parse(run.output.substr(run.output.find('{')));
+    CHECK(info["vertices"] == 24 + 482);  // the Box's 8 corners split three ways, the Sphere smooth
+    CHECK(info["hard_edge_vertices"] == 8);
+    CHECK(info["hard_edge_copies"] == 16);
+    const RunResult text = runRadbake("info " + quote(tmp.path / "box.wrl"));
+    CHECK(text.output.find("vertices   506 (8 split at hard edges, 16 copies)") != std::string::npos);
+}

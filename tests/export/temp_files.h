@@ -1,6 +1,6 @@
 #pragma once
 // Test support shared by the export and cli suites: a temporary directory removed with
-// everything in it when the test ends, and a file's bytes.
+// everything in it when the test ends, a file's bytes, and a file written.
 #include <doctest/doctest.h>
 #include <stdlib.h>
 
@@ -32,6 +32,13 @@ inline std::string readBytes(const std::filesystem::path& path) {
     std::stringstream bytes;
     bytes << in.rdbuf();
     return bytes.str();
+}
+
+// Writes `text` to dir/name and returns that path, for a scene file written by a test.
+inline std::string writeText(const TempDir& dir, const std::string& name, const std::string& text) {
+    const std::string path = (dir.path / name).string();
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
 }
 
 }  // namespace testfs

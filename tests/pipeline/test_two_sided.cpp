@@ -308,3 +308,33 @@ TEST_CASE("a closed two-sided emitter in one mesh keeps its twin: the outward fu
     CHECK(worstVertexError(b, 1, 2.0 * kPi) <= 0.02);
     CHECK(largestVertexValue(b, 0) == 0.0);  // outside sees nothing
 }
+
+TEST_CASE("two touching back-to-back two-sided slabs: the backs in the gap are dark, no light passes, few iterations") {
+    // A white (0.999) slab made of two solid FALSE quads 1e-5 apart, the upper facing up, the
+    // lower facing down, lit from straight above (E = 1) over a black floor. Their back twins face
+    // each other across the gap: a two-surface furnace at rho = 0.999 unless they are dark.
+    // Closed forms: the top reads H / pi = 1 / pi (it sees only the sky), the underside 0 (the
+    // floor is black and nothing passes the slab), and the covered backs reflect nothing.
+    testfs::TempDir dir;
+    const auto quad = [](float y, bool up) {
+        const std::string h = std::to_string(y);
+        return std::string("Shape { appearance Appearance { material Material { diffuseColor 1 1 1 } }\n") +
+               " geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ -1 " + h + " -1, -1 " + h + " 1, 1 " + h +
+               " 1, 1 " + h + " -1 ] } coordIndex [ " + (up ? "0 1 2 3" : "3 2 1 0") + " -1 ] } }\n";
+    };
+    const std::string path = testfs::writeText(
+        dir, "slabs.wrl",
+        "#VRML V2.0 utf8\nDirectionalLight { direction 0 -1 0 }\n" + quad(1.0f, true) + quad(1.0f - 1e-5f, false) +
+            "Shape { appearance Appearance { material Material { diffuseColor 0 0 0 } }\n"
+            " geometry IndexedFaceSet { coord Coordinate { point [ -3 0 -3, -3 0 3, 3 0 3, 3 0 -3 ] } coordIndex [ 0 1 2 3 -1 ] } }\n");
+    const Bake b = bakeQuietly(path, defaultOptions({}));
+    const Scene& scene = *b.scene;
+    REQUIRE(scene.meshes.size() == 5);  // two slabs, the floor, two twins
+    CHECK(scene.covered_back_polygons == 2);
+    for (uint32_t front : {0u, 1u}) CHECK(polygonReflectance(scene, scene.meshes[scene.meshes[front].twin], 0) == Vec3(0.0f));
+    CHECK(worstVertexError(b, 0, 1.0) < 0.01);   // the top
+    CHECK(largestVertexValue(b, 1) < 1e-6);      // the underside
+    REQUIRE(b.solution);
+    CHECK(b.solution->stats.converged);
+    CHECK(b.solution->stats.iterations <= 12);
+}

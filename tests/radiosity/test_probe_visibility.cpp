@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "radiosity/form_factor.h"
@@ -73,4 +74,40 @@ TEST_CASE("probe under a half-hidden emitting square: the visible rectangle's cl
     REQUIRE(per_thread_count.size() == 4);
     CHECK(per_thread_count[0] == per_thread_count[2]);
     CHECK(per_thread_count[1] == per_thread_count[3]);
+}
+
+namespace {
+
+// scenes/paper/shadow.wrl's bug, small: a 2 x 1 emitting rectangle (L_e = 1, black) at z = 7.5
+// facing down, over x in [-1, 1], y in [-0.5, 0.5], and a black plate at z = 3 over y >= 0.16.
+// A ray from the origin to (x, y, 7.5) crosses z = 3 at y' = 0.4 y: the plate hides the strip
+// y >= 0.4 of the lamp, 10 % of it. Cut into its two 1 x 1 halves (radius / distance 0.094,
+// below the coarse rule's 0.1), the lamp's 2 x 2 rays per half all passed at y = +-0.25 and
+// the probe read the whole lamp (+11 %).
+Scene lampBehindPlateEdge() {
+    Scene scene;
+    const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
+    const uint32_t black = addMaterial(scene, Vec3(0.0f), Vec3(0.0f));
+    addQuad(scene, lamp, {-1.0f, -0.5f, 7.5f}, {-1.0f, 0.5f, 7.5f}, {1.0f, 0.5f, 7.5f}, {1.0f, -0.5f, 7.5f});
+    addQuad(scene, black, {-50.0f, 0.16f, 3.0f}, {50.0f, 0.16f, 3.0f}, {50.0f, 20.0f, 3.0f}, {-50.0f, 20.0f, 3.0f});
+    return scene;
+}
+
+}  // namespace
+
+TEST_CASE("probe in a luminaire's penumbra: the visible part's closed form within 1 %") {
+    const Scene scene = lampBehindPlateEdge();
+    Diagnostics diagnostics;
+    const auto solution = solve(scene, SolverOptions::forQuality(Quality::Medium), diagnostics);
+    REQUIRE(solution);
+    const std::vector<DVec3> visible = {{-1.0, -0.5, 7.5}, {-1.0, 0.4, 7.5}, {1.0, 0.4, 7.5}, {1.0, -0.5, 7.5}};
+    const std::vector<DVec3> whole = {{-1.0, -0.5, 7.5}, {-1.0, 0.5, 7.5}, {1.0, 0.5, 7.5}, {1.0, -0.5, 7.5}};
+    const DVec3 origin(0.0), up(0.0, 0.0, 1.0);
+    const double expected = kPi * pointPolygonFormFactor(origin, up, visible, {0, 0, -1});
+    const double unoccluded = kPi * pointPolygonFormFactor(origin, up, whole, {0, 0, -1});
+    CHECK(expected < 0.95 * unoccluded);
+    const double h = probeIrradiance(*solution, origin, up).x;
+    CAPTURE(h);
+    CAPTURE(expected);
+    CHECK(std::abs(h / expected - 1.0) < 0.01);  // relative (doctest's Approx adds 1 to the scale)
 }

@@ -223,3 +223,73 @@ TEST_CASE("lights and emitters outside a closed two-sided mesh leave it dark ins
     CHECK(scene.meshes[0].closed_two_sided);
     CHECK_FALSE(scene.meshes[1].closed_two_sided);  // one-sided from the start
 }
+
+namespace {
+
+// A unit quad at height z, facing +z (up) or -z, two-sided unless `solid`.
+Mesh quadAt(float z, bool up, bool solid = false) {
+    Mesh mesh = quad(solid);
+    for (Vec3& p : mesh.positions) p.z = z;
+    if (!up) {
+        for (UVec3& t : mesh.triangles) std::swap(t.y, t.z);
+        for (Vec3& n : mesh.normals) n = -n;
+    }
+    return mesh;
+}
+
+Vec3 backReflectance(const Scene& scene, uint32_t front) {
+    return polygonReflectance(scene, scene.meshes[scene.meshes[front].twin], 0);
+}
+
+}  // namespace
+
+TEST_CASE("backs in contact: a back twin that another surface covers from in front reflects nothing") {
+    SUBCASE("two touching back-to-back slabs: both backs lie in the gap") {
+        Scene scene;
+        scene.materials.push_back(Material{});
+        scene.meshes = {quadAt(0.0f, true), quadAt(-5e-6f, false)};  // 5e-6: above rounding, in contact
+        addBackTwins(scene);
+        CHECK(scene.covered_back_polygons == 2);
+        CHECK(backReflectance(scene, 0) == Vec3(0.0f));
+        CHECK(backReflectance(scene, 1) == Vec3(0.0f));
+        CHECK(polygonReflectance(scene, scene.meshes[0], 0) == Vec3(0.25f));  // fronts untouched
+        CHECK(polygonReflectance(scene, scene.meshes[1], 0) == Vec3(0.25f));
+    }
+    SUBCASE("two sheets facing up, one just above the other: the upper one's back is in the gap") {
+        Scene scene;
+        scene.materials.push_back(Material{});
+        scene.meshes = {quadAt(5e-6f, true), quadAt(0.0f, true)};  // the upper first: geometry decides
+        addBackTwins(scene);
+        CHECK(scene.covered_back_polygons == 1);
+        CHECK(backReflectance(scene, 0) == Vec3(0.0f));
+        CHECK(backReflectance(scene, 1) == Vec3(0.25f));  // the underside: open
+    }
+    SUBCASE("the same face given twice: one back stays, the later one is a duplicate") {
+        Scene scene;
+        scene.materials.push_back(Material{});
+        scene.meshes = {quadAt(0.0f, true), quadAt(0.0f, true)};
+        addBackTwins(scene);
+        CHECK(scene.covered_back_polygons == 1);
+        CHECK(backReflectance(scene, 0) == Vec3(0.25f));
+        CHECK(backReflectance(scene, 1) == Vec3(0.0f));
+    }
+    SUBCASE("a one-sided face just behind a back covers it; half of it covers half") {
+        Scene scene;
+        scene.materials.push_back(Material{});
+        Mesh half = quadAt(-5e-6f, true, true);
+        for (Vec3& p : half.positions) p.x *= 0.5f;
+        scene.meshes = {quadAt(0.0f, true), half};
+        addBackTwins(scene);
+        CHECK(scene.covered_back_polygons == 1);
+        CHECK(backReflectance(scene, 0).x == doctest::Approx(0.125).epsilon(1e-4));
+    }
+    SUBCASE("surfaces apart, or behind the back, cover nothing") {
+        Scene scene;
+        scene.materials.push_back(Material{});
+        scene.meshes = {quadAt(0.0f, true), quadAt(-0.1f, true), quadAt(5e-6f, false, true)};
+        addBackTwins(scene);
+        CHECK(scene.covered_back_polygons == 0);
+        CHECK(backReflectance(scene, 0) == Vec3(0.25f));
+        CHECK(backReflectance(scene, 1) == Vec3(0.25f));
+    }
+}

@@ -173,6 +173,10 @@ private:
     uint64_t replay_tokens_ = 0;
     bool emit_ = true;            // false inside Switch/LOD children that are not drawn
     bool failed_ = false;
+    // Per open Separator (and the file): its lights, each with the first mesh after it. A
+    // VRML 1.0 light lights what follows it, up to the end of its Separator.
+    std::vector<std::vector<std::pair<size_t, size_t>>> light_frames_;
+    void closeLightFrame();
 
     std::vector<DefRecord> defs_;
     std::unordered_map<std::string, size_t> names_;    // DEF name -> latest DefRecord

@@ -86,15 +86,23 @@ bool Vrml1Parser::parseFile() {
     // The header line is a '#' comment to the lexer. The file holds one node by the
     // specification; many hold several, read as if in one Separator.
     Vrml1State root;
+    light_frames_.emplace_back();
     while (peek().kind != TokenKind::End) {
         const Token first = next();
         if (!parseNode(first, root, 0)) return false;
     }
+    closeLightFrame();
     for (const auto& [message, place] : repeated_)
         if (place.second > 0)
             diagnostics_.note(place.first, message + ": " + std::to_string(place.second) +
                                                " more occurrence(s) in this file not reported");
     return !failed_;
+}
+
+void Vrml1Parser::closeLightFrame() {
+    for (const auto& [light, first_mesh] : light_frames_.back())
+        scopeLight(scene_.lights[light], first_mesh, scene_.meshes.size());
+    light_frames_.pop_back();
 }
 
 bool Vrml1Parser::isNodeStart(const Token& word) {
@@ -220,9 +228,12 @@ bool Vrml1Parser::parseNodeBody(Vrml1Kind kind, const Token& type, const std::st
         case Vrml1Kind::Separator:
         case Vrml1Kind::Lod:
         case Vrml1Kind::WwwAnchor: {
-            Vrml1State inner = state;  // state changes stay inside
+            Vrml1State inner = state;  // state changes stay inside, and so do lights
             if (!def_name.empty()) inner.group_name = def_name;
-            return parseGroup(kind, type, inner, depth);
+            light_frames_.emplace_back();
+            const bool ok = parseGroup(kind, type, inner, depth);
+            closeLightFrame();
+            return ok;
         }
         case Vrml1Kind::TransformSeparator:
         case Vrml1Kind::Group:

@@ -404,6 +404,7 @@ bool Vrml1Parser::parseLight(Vrml1Kind kind, const Token& type, Vrml1State& stat
             light.beam_width = std::min(light.cut_off_angle, static_cast<float>(half));
         }
     }
+    if (!light_frames_.empty()) light_frames_.back().emplace_back(scene_.lights.size(), scene_.meshes.size());
     scene_.lights.push_back(light);
     return true;
 }

@@ -35,7 +35,9 @@ Vrml97Builder::Vrml97Builder(std::string path, const VrmlOptions& options, std::
 bool Vrml97Builder::build(const std::vector<NodePtr>& roots) {
     const int errors_before = diagnostics_.errorCount();
     for (const Mesh& mesh : scene_.meshes) triangles_ += mesh.triangles.size();
+    openLightScope();  // the file is a group of its top-level nodes (an Inline's children)
     for (const NodePtr& root : roots) visit(root, DMat4(1.0), 0);
+    closeLightScope();
     return !aborted_ && diagnostics_.errorCount() == errors_before;
 }
 
@@ -159,7 +161,18 @@ NodePtr Vrml97Builder::copyTemplate(const NodePtr& node, const std::unordered_ma
 void Vrml97Builder::visitChildren(const Node& node, std::string_view field, const DMat4& m, int depth) {
     const FieldValue* children = node.field(field);
     if (!children) return;
+    openLightScope();
     for (const NodePtr& child : children->nodes) visit(child, m, depth + 1);
+    closeLightScope();
+}
+
+void Vrml97Builder::openLightScope() { light_scopes_.push_back({scene_.meshes.size(), {}}); }
+
+void Vrml97Builder::closeLightScope() {
+    // The children's meshes are the ones appended since the scope opened, before or after the light.
+    for (size_t light : light_scopes_.back().lights)
+        scopeLight(scene_.lights[light], light_scopes_.back().first_mesh, scene_.meshes.size());
+    light_scopes_.pop_back();
 }
 
 void Vrml97Builder::visit(const NodePtr& start, const DMat4& m, int depth) {
@@ -339,6 +352,8 @@ void Vrml97Builder::light(const Node& node, const DMat4& m) {
     }
     const double length = glm::length(DVec3(light.direction));
     if (length > 0.0 && std::isfinite(length)) light.direction = Vec3(DVec3(light.direction) / length);
+    if (light.type == LightType::Directional && !light_scopes_.empty())
+        light_scopes_.back().lights.push_back(scene_.lights.size());
     scene_.lights.push_back(light);
     transformAppended(scene_, scene_.meshes.size(), scene_.lights.size() - 1, scene_.cameras.size(), m);
 }

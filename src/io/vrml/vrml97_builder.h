@@ -71,6 +71,15 @@ private:
     size_t expanded_nodes_ = 0;
     bool aborted_ = false;
     std::vector<uint32_t> loop_;  // scratch polygon
+    // Per open grouping node (and the file's top level): the meshes it started at and its
+    // DirectionalLights, which light only its children (ISO/IEC 14772-1, DirectionalLight).
+    struct LightScope {
+        size_t first_mesh = 0;
+        std::vector<size_t> lights;
+    };
+    std::vector<LightScope> light_scopes_;
+    void openLightScope();
+    void closeLightScope();
 };
 
 }  // namespace radbake::vrml

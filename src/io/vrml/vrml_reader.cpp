@@ -136,13 +136,37 @@ bool looksLikeVrml(std::string_view first_bytes) {
     return first_bytes.starts_with("#VRML") || first_bytes.starts_with("#X3D") || isGzip(first_bytes);
 }
 
+namespace {
+
+// A scope that holds every mesh is no limit (the usual DirectionalLight at the top of a
+// file); a light whose scope holds no mesh is reported, since it lights nothing.
+void finishLightScopes(Scene& scene, size_t first_light, Diagnostics& diagnostics) {
+    for (size_t i = first_light; i < scene.lights.size(); ++i) {
+        Light& light = scene.lights[i];
+        if (!light.scoped) continue;
+        if (light.scope.size() == scene.meshes.size()) {
+            light.scoped = false;
+            light.scope.clear();
+        } else if (light.scope.empty() && light.on) {
+            diagnostics.warning(light.location, "this light lights no shape: a VRML97 DirectionalLight lights only "
+                                                "its grouping node's children, a VRML 1.0 light only what follows it "
+                                                "in its Separator");
+        }
+    }
+}
+
+}  // namespace
+
 bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene, Diagnostics& diagnostics) {
     try {
         const std::optional<std::string> text = vrml::loadText(path, {path, 0, 0}, options, diagnostics);
         if (!text) return false;
         std::error_code ec;
         std::vector<std::string> inline_stack{fs::weakly_canonical(path, ec).string()};
-        return vrml::readText(*text, path, options, inline_stack, scene, diagnostics);
+        const size_t first_light = scene.lights.size();
+        const bool ok = vrml::readText(*text, path, options, inline_stack, scene, diagnostics);
+        finishLightScopes(scene, first_light, diagnostics);
+        return ok;
     } catch (const std::bad_alloc&) {
         diagnostics.error({path, 0, 0}, "out of memory while reading the scene");
     } catch (const std::exception& e) {
@@ -207,6 +231,12 @@ std::optional<std::string> resolveUrl(const std::string& base_file, const std::s
     const fs::path joined = base / target;
     if (fs::exists(joined, ec)) return joined.lexically_normal().string();
     return caseInsensitiveResolve(base, target).lexically_normal().string();
+}
+
+void scopeLight(Light& light, size_t first_mesh, size_t end_mesh) {
+    light.scoped = true;
+    light.scope.clear();
+    for (size_t m = first_mesh; m < end_mesh; ++m) light.scope.push_back(static_cast<uint32_t>(m));
 }
 
 bool isVrml97Text(std::string_view text) {

@@ -47,5 +47,9 @@ std::optional<std::string> resolveUrl(const std::string& base_file, const std::s
 bool readText(std::string_view text, const std::string& path, const VrmlOptions& options,
               std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics);
 
+// Limits `light` to the meshes first_mesh .. end_mesh - 1: the ones a VRML grouping node
+// (VRML97 DirectionalLight) or Separator (VRML 1.0 light) holds.
+void scopeLight(Light& light, size_t first_mesh, size_t end_mesh);
+
 }  // namespace vrml
 }  // namespace radbake
