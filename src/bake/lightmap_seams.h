@@ -27,9 +27,11 @@ struct EdgeSample {
     // For a boundary point at the end of a seam (a chart corner on the seam): the seam sample
     // there, whose light (the mean over the faces meeting) it takes; -1 otherwise.
     int64_t seam = -1;
-    // Midway along one straight boundary edge between the samples just before and after it
-    // in ChartEdges::edges (odd samples of an edge): where their light agrees, it takes their mean.
-    bool between = false;
+    // Midway along one straight boundary edge between the samples `span` before and after it
+    // in ChartEdges::edges (0: none): where their light agrees, it takes their mean. Spans
+    // nest (1 between samples with span 2 or 0, 2 between those with 4 or 0, ...), so an edge
+    // where the light is smooth is read at every 2 x kMaxEdgeSpan-th sample.
+    uint32_t span = 0;
 };
 
 // A point where two charts of one surface meet, seen from both.
@@ -53,10 +55,11 @@ DVec3 bilinearLookup(const LightmapImage& image, const DVec2& texel);
 
 // Fits the texels under the edge and seam lookups (see the top of this file); values are
 // H / pi from `irradiance`, evaluated once per distinct (point, normal). tolerance > 0: an
-// edge sample `between` two whose light agrees within that relative tolerance (or 1% of the
-// brightest edge light) takes their mean instead of an evaluation (about one evaluation per
-// texel of edge where the light is smooth). Sequential solve over a parallel gather: the
-// result does not depend on the runner's thread count. Needs padding >= 1 (a lookup on an edge reads one
+// edge sample between two (EdgeSample::span) whose light agrees within that relative
+// tolerance (or 1% of the brightest edge light) takes their mean instead of an evaluation
+// (about one evaluation per four texels of edge where the light is smooth). Groups of charts
+// joined by seams are solved in parallel, each on its own: the result does not depend on the
+// runner's thread count. Needs padding >= 1 (a lookup on an edge reads one
 // padding ring); does nothing otherwise. Fills and returns lightmaps.stitch.
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
                             ParallelRunner& runner, double tolerance = 0.0);
