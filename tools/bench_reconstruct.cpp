@@ -82,8 +82,20 @@ Error compareTexels(const Lightmaps& fast, const Lightmaps& ref) {
         for (const auto& [k, t] : covered) brightest = std::max(brightest, double(ref.images[k].rgb[3 * t]));
         for (const auto& [k, t] : covered) {
             const double a = fast.images[k].rgb[3 * t], b = ref.images[k].rgb[3 * t];
-            if (std::abs(a - b) / std::max(b, 0.01 * brightest) > 0.3)
-                std::printf("  texel %zu (%zu, %zu): %g vs %g\n", k, t % ref.images[k].width, t / ref.images[k].width, a, b);
+            if (!(std::abs(a - b) / std::max(b, 0.01 * brightest) > 0.3)) continue;
+            const int x = static_cast<int>(t % ref.images[k].width), y = static_cast<int>(t / ref.images[k].width);
+            // The chart holding it: its mesh and the world point of the texel's centre.
+            std::string where;
+            for (const LightmapChart& c : ref.layout.charts)
+                if (c.atlas == static_cast<int>(k) && x >= c.x && x < c.x + c.width && y >= c.y && y < c.y + c.height) {
+                    const DVec3 p = c.worldPoint(c.min_plane + (DVec2(x - c.x, y - c.y) + 0.5) / c.texels_per_metre);
+                    char text[160];
+                    std::snprintf(text, sizeof text, " mesh %u at (%.3g %.3g %.3g) normal (%.2g %.2g %.2g)", c.mesh, p.x, p.y,
+                                  p.z, c.normal_world.x, c.normal_world.y, c.normal_world.z);
+                    where = text;
+                    break;
+                }
+            std::printf("  texel %zu (%d, %d): %g vs %g%s\n", k, x, y, a, b, where.c_str());
         }
     }
     return compare(covered.size(), [&](size_t i, DVec3& a, DVec3& b) {

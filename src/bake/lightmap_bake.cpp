@@ -145,7 +145,7 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts 
     if (options.texel_tolerance > 0.0) links.emplace(solution, runner);
     const IrradianceFunction irradiance = [&](const SurfacePoint& at) {
         return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world)
-                     : probeIrradiance(solution, at.p_world, at.normal_world);
+                     : probeIrradiance(solution, at.p_world, at.normal_world, at.mesh);
     };
     lightmaps =
         evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance, progress);

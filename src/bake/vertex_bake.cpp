@@ -92,7 +92,7 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRu
             point.groups = groupByNormal(point.faces);
             for (const Incident& g : point.groups)
                 point.h.push_back(links ? links->irradiance(g.mesh, g.triangle, point.p, g.normal)
-                                        : probeIrradiance(solution, point.p, g.normal));
+                                        : probeIrradiance(solution, point.p, g.normal, g.mesh));
         }
         if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
     });

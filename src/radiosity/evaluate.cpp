@@ -73,7 +73,7 @@ double piecePointFormFactor(const DVec3& point, const DVec3& normal, std::span<c
 namespace {
 
 DVec3 evaluate(const Solution& solution, const DVec3& point_on_surface, const DVec3& normal,
-               ProbeCounters* counters) {
+               ProbeCounters* counters, uint32_t receiver_mesh) {
     if (solution.elements.empty()) return DVec3(0.0);
     const double lift = gather::kLift * solution.scene_extent;
     const DVec3 point = gather::liftOffSurfaces(solution, point_on_surface, normal, lift);
@@ -87,19 +87,20 @@ DVec3 evaluate(const Solution& solution, const DVec3& point_on_surface, const DV
     for (uint32_t r = 0; r < solution.root_count; ++r) g.visit(r);
     DVec3 h = g.sum;
     if (solution.scene && !solution.scene->lights.empty())
-        h += punctualIrradiance(solution.scene->lights, solution.rays.get(), point_on_surface, normal);
+        h += punctualIrradiance(solution.scene->lights, solution.rays.get(), point_on_surface, normal, nullptr,
+                                receiver_mesh);
     return h;
 }
 
 }  // namespace
 
-DVec3 probeIrradiance(const Solution& solution, const DVec3& point, const DVec3& normal) {
-    return evaluate(solution, point, normal, nullptr);
+DVec3 probeIrradiance(const Solution& solution, const DVec3& point, const DVec3& normal, uint32_t receiver_mesh) {
+    return evaluate(solution, point, normal, nullptr, receiver_mesh);
 }
 
 DVec3 probeIrradianceCounted(const Solution& solution, const DVec3& point, const DVec3& normal,
-                             ProbeCounters& counters) {
-    return evaluate(solution, point, normal, &counters);
+                             ProbeCounters& counters, uint32_t receiver_mesh) {
+    return evaluate(solution, point, normal, &counters, receiver_mesh);
 }
 
 }  // namespace radbake

@@ -17,7 +17,7 @@ struct ProbeCounters {
 
 // The same answer as probeIrradiance, bit for bit; `counters` is incremented.
 DVec3 probeIrradianceCounted(const Solution& solution, const DVec3& point, const DVec3& normal,
-                             ProbeCounters& counters);
+                             ProbeCounters& counters, uint32_t receiver_mesh = 0xffffffffu);
 
 // Pieces of probeIrradiance, exposed for tests.
 

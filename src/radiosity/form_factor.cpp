@@ -11,8 +11,6 @@
 namespace radbake {
 namespace {
 
-constexpr size_t kMaxClip = 64;
-
 // Gauss-Legendre rules on [0, 1] (abscissae, weights), orders 1 to 4.
 struct GaussRule {
     int count;
@@ -187,17 +185,8 @@ double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span
     if (n < 3 || n >= kMaxClip - 1) return 0.0;
     // The receiver point must be strictly in front of the source (light leaves the front).
     if (!(glm::dot(source_normal, point - source[0]) > 0.0)) return 0.0;
-    // Clip the source to the receiver's upper half-space {y : normal.(y - point) >= 0}.
     std::array<DVec3, kMaxClip> clipped;
-    size_t count = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const DVec3& a = source[i];
-        const DVec3& b = source[(i + 1) % n];
-        const double da = glm::dot(normal, a - point);
-        const double db = glm::dot(normal, b - point);
-        if (da >= 0.0) clipped[count++] = a;
-        if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) clipped[count++] = a + (da / (da - db)) * (b - a);
-    }
+    const size_t count = clipAboveHorizon(point, normal, source, clipped.data());
     if (count < 3) return 0.0;
     double sum = 0.0;
     std::array<DVec3, kMaxClip> dirs;
@@ -212,6 +201,20 @@ double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span
         sum += angle * glm::dot(normal, c) / c_len;
     }
     return std::abs(sum) / (2.0 * kPi);
+}
+
+size_t clipAboveHorizon(const DVec3& point, const DVec3& normal, std::span<const DVec3> loop, DVec3* out) {
+    const size_t n = loop.size();
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const DVec3& a = loop[i];
+        const DVec3& b = loop[(i + 1) % n];
+        const double da = glm::dot(normal, a - point);
+        const double db = glm::dot(normal, b - point);
+        if (da >= 0.0) out[count++] = a;
+        if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) out[count++] = a + (da / (da - db)) * (b - a);
+    }
+    return count;
 }
 
 double pointPolygonDistance(const DVec3& point, const PolygonView& polygon) {

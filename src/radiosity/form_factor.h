@@ -19,6 +19,15 @@ namespace radbake {
 double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span<const DVec3> source,
                               const DVec3& source_normal);
 
+// The largest polygon pointPolygonFormFactor takes, plus room for the vertex its clip adds.
+inline constexpr size_t kMaxClip = 64;
+
+// `loop` (at most kMaxClip - 2 vertices) clipped to the half-space {y : normal . (y - point)
+// >= 0} above a point's tangent plane, written to `out` (room for kMaxClip); returns its
+// vertex count (< 3: nothing of it is above). pointPolygonFormFactor integrates this part,
+// and the point gather aims its visibility rays at it.
+size_t clipAboveHorizon(const DVec3& point, const DVec3& normal, std::span<const DVec3> loop, DVec3* out);
+
 // pointPolygonFormFactor averaged over a quad receiver (its bilinear patch) with 2 x 2 Gauss
 // points, weighted by the patch's area element: where the receiver touches the source the
 // centroid alone is biased (solve.cpp's leaf row sums, cluster.cpp's kernels).

@@ -3,6 +3,7 @@
 // exhaustive gather walks it from every root, the link reconstruction (reconstruct.cpp) from
 // the sources of the links that reach the point's element.
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <span>
 #include <vector>
@@ -70,7 +71,7 @@ struct Gatherer {
     DVec3 point{0.0}, normal{0.0}, origin{0.0};
     double lift = 0.0;
     std::vector<DVec3> points{};
-    std::vector<DVec3> horizon_loop{};
+    std::array<DVec3, kMaxClip> horizon_loop{};
     DVec3 sum{0.0};
     ProbeCounters* counters = nullptr;
     // Rays for visibility: the exhaustive gather casts them whenever the solution has a
@@ -96,8 +97,9 @@ struct Gatherer {
         bool below = false;
         for (const DVec3& v : loop) below = below || !(glm::dot(normal, v - point) > 0.0);
         if (below) {
-            clipAboveHorizon(loop);
-            if (horizon_loop.size() >= 3) points = stratifiedPolygonPoints(horizon_loop, n);
+            // Only pieces with a form factor get here: at most kMaxClip - 2 vertices.
+            const size_t count = clipAboveHorizon(point, normal, loop, horizon_loop.data());
+            if (count >= 3) points = stratifiedPolygonPoints(std::span<const DVec3>(horizon_loop.data(), count), n);
             else points.clear();
         } else {
             elementPoints(loop, n, points);
@@ -106,18 +108,6 @@ struct Gatherer {
         open = static_cast<int>(s.rays->countOpenFrom(origin, points));
         total = static_cast<int>(points.size());
         if (counters) counters->rays += points.size();
-    }
-
-    // horizon_loop = loop clipped to {y : normal . (y - point) >= 0}.
-    void clipAboveHorizon(std::span<const DVec3> loop) {
-        horizon_loop.clear();
-        for (size_t i = 0; i < loop.size(); ++i) {
-            const DVec3& a = loop[i];
-            const DVec3& b = loop[(i + 1) % loop.size()];
-            const double da = glm::dot(normal, a - point), db = glm::dot(normal, b - point);
-            if (da >= 0.0) horizon_loop.push_back(a);
-            if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) horizon_loop.push_back(a + (da / (da - db)) * (b - a));
-        }
     }
 
     // A piece whose rays disagree (a shadow edge crosses it) is opened until its radius is

@@ -185,7 +185,8 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     // Only a point on its element's front side reads that element's links (a black receiver
     // has links too: oracleReflectance in refine.h).
     if (leaf == kNoElement || !(glm::dot(s.elements[leaf].normal, normal) > 0.5))
-        return counters ? probeIrradianceCounted(s, p_world, normal, *counters) : probeIrradiance(s, p_world, normal);
+        return counters ? probeIrradianceCounted(s, p_world, normal, *counters, mesh)
+                        : probeIrradiance(s, p_world, normal, mesh);
     const uint32_t root = s.elements[leaf].root;
     const double lift = gather::kLift * s.scene_extent;
     // The lift off the polygons the point touches (gather.h), among those that can light it:

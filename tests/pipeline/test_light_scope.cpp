@@ -28,8 +28,8 @@ struct Baked {
     std::vector<std::string> warnings;
 };
 
-Baked bakeFile(const std::string& path) {
-    BakeOptions options = BakeOptions::forQuality(Quality::Draft);
+Baked bakeFile(const std::string& path, Quality quality = Quality::Draft) {
+    BakeOptions options = BakeOptions::forQuality(quality);
     options.lightmaps.enabled = false;
     options.threading.threads = 2;
     Progress progress(false);
@@ -76,6 +76,10 @@ TEST_CASE("light scope: a VRML97 DirectionalLight in a Group lights that group's
     CHECK(rooms.bake.scene->lights[0].scope == std::vector<uint32_t>{0});
     checkMesh(rooms.bake, 0, 1.0 / kPi);
     checkMesh(rooms.bake, 1, 0.0);
+    // The reference preset reads every vertex with the exhaustive gather: the same scope.
+    const Baked reference = bakeFile(lit, Quality::Reference);
+    checkMesh(reference.bake, 0, 1.0 / kPi);
+    checkMesh(reference.bake, 1, 0.0);
 }
 
 TEST_CASE("light scope: a top-level DirectionalLight and a grouped PointLight light everything") {
