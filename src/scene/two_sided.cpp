@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/coplanar.h"
 #include "scene/weld.h"
 
 namespace radbake {
@@ -224,8 +225,8 @@ bool emits(const Scene& scene, const Mesh& mesh) {
 // way as T (a front there already faces that way: T is redundant; of two coincident twins the
 // later one is), and the other side of a zero-thickness sheet when it faces the other way (they
 // exchange nothing: not a gap).
-constexpr double kContactRelative = 1e-5;   // as validate_overlap.cpp's coplanar tolerance
-constexpr double kParallelTolerance = 1e-4; // unit normals' components (validate_overlap.cpp)
+constexpr double kContactRelative = coplanar::kRelativeTolerance;   // as the overlap warnings'
+constexpr double kParallelTolerance = coplanar::kNormalTolerance;  // unit normals' components
 
 // A polygon covered over at most this fraction is left as it is (a sliver along a contact
 // line); one covered over at least kCoveredWhole is dark all over.
@@ -239,42 +240,8 @@ struct PlaneTriangle {
     uint32_t mesh = 0, triangle = 0;
 };
 
-int dominantAxis(const DVec3& n) {
-    const DVec3 a = glm::abs(n);
-    return a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-}
-
-DVec2 dropAxis(const DVec3& p, int axis) {
-    return axis == 0 ? DVec2(p.y, p.z) : (axis == 1 ? DVec2(p.z, p.x) : DVec2(p.x, p.y));
-}
-
-double cross2(const DVec2& a, const DVec2& b) { return a.x * b.y - a.y * b.x; }
-
 // The area of the intersection of two (nearly) coplanar triangles, in a's plane.
-double overlapArea(const PlaneTriangle& a, const PlaneTriangle& b) {
-    const int axis = dominantAxis(a.normal);
-    std::vector<DVec2> poly, next;
-    std::array<DVec2, 3> clip;
-    for (int k = 0; k < 3; ++k) {
-        clip[k] = dropAxis(a.p[k] - a.p[0], axis);
-        poly.push_back(dropAxis(b.p[k] - a.p[0], axis));
-    }
-    if (cross2(clip[1] - clip[0], clip[2] - clip[0]) < 0.0) std::swap(clip[1], clip[2]);
-    for (int e = 0; e < 3 && poly.size() >= 3; ++e) {
-        const DVec2 from = clip[e], edge = clip[(e + 1) % 3] - clip[e];
-        next.clear();
-        for (size_t i = 0; i < poly.size(); ++i) {
-            const DVec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
-            const double sp = cross2(edge, p - from), sq = cross2(edge, q - from);
-            if (sp >= 0.0) next.push_back(p);
-            if ((sp >= 0.0) != (sq >= 0.0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
-        }
-        poly.swap(next);
-    }
-    double twice = 0.0;
-    for (size_t i = 0; poly.size() >= 3 && i < poly.size(); ++i) twice += cross2(poly[i], poly[(i + 1) % poly.size()]);
-    return 0.5 * std::abs(twice) / std::abs(a.normal[axis]);
-}
+double overlapArea(const PlaneTriangle& a, const PlaneTriangle& b) { return coplanar::overlapArea(a.p, a.normal, b.p); }
 
 }  // namespace
 
