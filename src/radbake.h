@@ -28,6 +28,7 @@
 #include "radiosity/solver.h"      // SolverOptions, SolveStats (solver_options.h)
 #include "scene/creases.h"         // splitHardEdges
 #include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera
+#include "scene/two_sided.h"       // addBackTwins, frontMesh
 
 namespace radbake {
 
@@ -35,6 +36,13 @@ namespace radbake {
 //    validated Scene in metres, its vertices split at hard edges (scene/creases.h:
 //    splitHardEdges, which a Scene built in memory can call too).
 std::optional<Scene> importScene(const std::string& path, const ImportOptions& options, Diagnostics& diagnostics);
+
+// 1b. Two-sided surfaces (scene/two_sided.h): every mesh that is not `solid` gets a back
+//     twin, a mesh of its own with its own light, except a closed one with nothing lit inside
+//     (its backs are dark: baked one-sided, counted as closed_two_sided). bake() does it; a
+//     caller running the stages one by one calls it after importScene. Returns how many twins
+//     it added.
+size_t addBackTwins(Scene& scene);
 
 // 2. Convex parts with their AABBs and OBBs: the potential occluders of every shaft.
 PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& diagnostics);

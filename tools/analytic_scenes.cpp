@@ -92,6 +92,7 @@ struct Surface {
     Polygon polygon;
     double rho = 0.0;
     double emission = 0.0;  // L_e
+    bool solid = true;      // false: VRML `solid FALSE`, two-sided (lit, reflecting, emitting on both sides)
 };
 
 std::string fmt(double v) {
@@ -105,7 +106,7 @@ std::string vrmlShapes(const std::vector<Surface>& surfaces) {
     for (const Surface& s : surfaces) {
         out << "Shape {\n  appearance Appearance { material Material { diffuseColor " << fmt(s.rho) << ' '
             << fmt(s.rho) << ' ' << fmt(s.rho) << " emissiveColor " << fmt(s.emission) << ' ' << fmt(s.emission)
-            << ' ' << fmt(s.emission) << " } }\n  geometry IndexedFaceSet {\n    solid TRUE\n"
+            << ' ' << fmt(s.emission) << " } }\n  geometry IndexedFaceSet {\n    solid " << (s.solid ? "TRUE" : "FALSE") << "\n"
             << "    coord Coordinate { point [\n";
         for (const DVec3& v : s.polygon) out << "      " << fmt(v.x) << ' ' << fmt(v.y) << ' ' << fmt(v.z) << ",\n";
         out << "    ] }\n    coordIndex [";
@@ -343,6 +344,50 @@ void furnaceScene(const std::filesystem::path& dir, double rho, const std::strin
     writeScene(dir, "furnace_" + tag, text, surfaces, enclosureProbes(cubeInward(), h, DVec3(0.5), 1), rel_tol);
 }
 
+// The same cube with every face turned OUT and two-sided (`solid FALSE`): its inside is the
+// back of every face, so it is the white furnace again (the same closed form), seen through
+// the back twins the bake gives two-sided faces.
+void twoSidedFurnaceScene(const std::filesystem::path& dir) {
+    const double rho = 0.5, h = kPi / (1.0 - rho);
+    std::vector<Surface> surfaces;
+    for (Polygon face : cubeInward()) {
+        std::reverse(face.begin(), face.end());  // facing out
+        surfaces.push_back({face, rho, 1.0, false});
+    }
+    char text[2048];
+    std::snprintf(text, sizeof text,
+                  "furnace_two_sided: the closed unit cube [0,1]^3, every face (one quad) facing OUT and two-sided\n"
+                  "(solid FALSE), emitting L_e = 1 and reflecting rho = %g on both sides.\n"
+                  "Closed form: inside, the backs of the faces make the white furnace, H = pi L_e/(1 - rho) =\n"
+                  "%.15f everywhere (outside, the fronts see nothing: H = 0, which the tests check).\n"
+                  "Probes: three on each face facing in, and six at the cube's centre facing along +-x, +-y, +-z.\n"
+                  "Tolerance: 0.02 relative (issue 13).\n",
+                  rho, h);
+    writeScene(dir, "furnace_two_sided", text, surfaces, enclosureProbes(cubeInward(), h, DVec3(0.5), 1), 0.02);
+}
+
+// A thin two-sided wall lit from one side only: the unit square z = 0 facing +z (solid FALSE,
+// rho 0.5) under a black one-sided emitter, the unit square at z = 1/2 facing -z (L_e = 1).
+// The emitter is black and faces only the wall's front, so nothing comes back: the front's H is
+// pi L_e F_point(x, emitter) exactly, and the back sees nothing at all (H = 0).
+void thinWallScene(const std::filesystem::path& dir) {
+    const Polygon emitter = square(DVec3(0, 0, 0.5), DVec3(0, 1, 0), DVec3(1, 0, 0));  // faces -z
+    const Polygon wall = square(DVec3(0, 0, 0), DVec3(1, 0, 0), DVec3(0, 1, 0));       // faces +z
+    const double le = 1.0;
+    std::vector<Probe> probes;
+    for (const Probe& p : gridProbes(4, emitter, kPi * le)) probes.push_back(p);
+    char text[2048];
+    std::snprintf(text, sizeof text,
+                  "thin_wall_two_sided: a thin two-sided wall lit from one side.\n"
+                  "Wall: the unit square z = 0 facing +z, solid FALSE (two-sided), reflecting rho = 0.5.\n"
+                  "Emitter: the unit square at z = 0.5 facing -z, one-sided, emitting L_e = 1, reflecting 0.\n"
+                  "Closed form: the black emitter returns nothing, so on the wall's lit side H = pi L_e\n"
+                  "F_point(x, emitter) (Lambert's formula, exact), and on its back, which sees nothing, H = 0\n"
+                  "(the tests check that side).\n"
+                  "Probes: the 4x4 cell centres of the wall's lit side, facing +z.\n");
+    writeScene(dir, "thin_wall_two_sided", text, {{emitter, 0.0, le}, {wall, 0.5, 0.0, false}}, probes, 0.02);
+}
+
 // A UV sphere of radius 1 about the origin: `bands` latitude bands x `sectors` longitudes,
 // vertices on the sphere, faces facing IN. Quads between two latitudes are isosceles
 // trapezoids (planar); the polar caps are triangles.
@@ -450,6 +495,8 @@ int main(int argc, char** argv) {
     furnaceScene(dir, 0.9, "rho_0.9", 0.01);
     furnaceScene(dir, 0.99, "rho_0.99", 0.01);
     furnaceScene(dir, 0.999, "rho_0.999", 0.02);
+    twoSidedFurnaceScene(dir);
+    thinWallScene(dir);
     sphereScenes(dir);
     return 0;
 }

@@ -22,6 +22,7 @@
 #include "io/import.h"
 #include "radiosity/solution.h"
 #include "radiosity/solver.h"
+#include "scene/two_sided.h"
 
 using namespace radbake;
 
@@ -67,6 +68,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cannot import %s\n", argv[1]);
         return 1;
     }
+    addBackTwins(*imported);  // as bake() does: each side of a two-sided mesh has its own charts
     size_t triangles = 0;
     for (const Mesh& mesh : imported->meshes) triangles += mesh.triangles.size();
     std::printf("%s: %zu meshes, %zu triangles, density %g texels/m\n", argv[1], imported->meshes.size(), triangles,

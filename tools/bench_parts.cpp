@@ -12,6 +12,7 @@
 #include "geometry/box.h"
 #include "geometry/parts.h"
 #include "io/import.h"
+#include "scene/two_sided.h"
 
 using namespace radbake;
 
@@ -38,12 +39,13 @@ int main(int argc, char** argv) {
         }
     }
     Diagnostics import_diagnostics;
-    const std::optional<Scene> scene = importScene(argv[1], import_options, import_diagnostics);
+    std::optional<Scene> scene = importScene(argv[1], import_options, import_diagnostics);
     if (!scene) {
         for (const Diagnostic& d : import_diagnostics.all())
             if (d.severity == Severity::Error) std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str());
         return 1;
     }
+    addBackTwins(*scene);  // as bake() does: a two-sided mesh is never a closed solid
     const SceneSummary summary = summarize(*scene);
     std::printf("scene        %s\nmeshes       %zu\npolygons     %zu\ntriangles    %zu\n", argv[1],
                 scene->meshes.size(), summary.polygons, summary.triangles);

@@ -25,6 +25,7 @@
 #include "radiosity/evaluate_probe.h"
 #include "radiosity/solution.h"
 #include "radiosity/solver.h"
+#include "scene/two_sided.h"
 
 using namespace radbake;
 
@@ -133,8 +134,9 @@ int main(int argc, char** argv) {
     diagnostics.sink = [](const Diagnostic& d) {
         if (d.severity != Severity::Note) std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str());
     };
-    const auto scene = importScene(path, import_options, diagnostics);
+    auto scene = importScene(path, import_options, diagnostics);
     if (!scene) return 1;
+    addBackTwins(*scene);  // as bake() does: both sides of two-sided meshes take part
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
     const Quality q = qualityNamed(quality);
     SolverOptions options = SolverOptions::forQuality(q);

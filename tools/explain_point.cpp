@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
     {
         const DVec3 total = probeIrradiance(s, p, n, mesh_index);
         const double lift = gather::kLift * s.scene_extent;
-        const DVec3 point = gather::liftOffSurfaces(s, p, lift);
+        const DVec3 point = gather::liftOffSurfaces(s, p, n, lift);
         for (uint32_t r = 0; r < s.root_count; ++r) {
             gather::Gatherer g{.s = s, .point = point, .normal = n, .origin = point + lift * n, .lift = lift,
                                .use_rays = s.rays != nullptr};

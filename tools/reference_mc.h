@@ -22,8 +22,10 @@
 // throughput multiplied by rho / q. With pdf cos/pi, pi * L(omega) is an unbiased estimate
 // of H = integral of L cos d omega, and L(y) = L_e(y) + rho(y) H(y) / pi recurses into the
 // same estimate, so a path gives sum_k pi L_e(y_k) prod_{i<k} rho_i, unbiased with no depth
-// cut. Back faces are black and absorb (patches are one-sided, as in the solver); the
-// background is black. Punctual lights (Point/Spot/Directional) are IGNORED: the reference
+// cut. Back faces are black and absorb (patches are one-sided, as in the solver), except on
+// two-sided meshes (Mesh::solid false, scene/two_sided.h), which reflect and emit alike on both
+// sides: a hit from behind sees the face with its normal flipped. Back twins (Mesh::back) are
+// skipped, their front stands for both sides. The background is black. Punctual lights (Point/Spot/Directional) are IGNORED: the reference
 // covers area emitters only. Per-face/per-vertex colours are ignored (material rho only).
 //
 // Determinism: the random stream of probe i depends only on (seed, i), so results are
@@ -34,6 +36,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <thread>
 #include <vector>
 
@@ -47,7 +50,16 @@ struct McTriangle {
     DVec3 normal{0.0};  // unit, counter-clockwise side = front
     DVec3 reflectance{0.0};
     DVec3 emission{0.0};  // radiance L_e
+    bool two_sided = false;  // both faces reflect and emit
 };
+
+// The normal of the face of `tri` that a ray along `dir` meets, and the cosine there (> 0),
+// or a cosine <= 0 when it meets a one-sided triangle's back.
+inline std::pair<DVec3, double> faceMet(const McTriangle& tri, const DVec3& dir) {
+    const double cos_y = -glm::dot(dir, tri.normal);
+    if (cos_y < 0.0 && tri.two_sided) return {-tri.normal, -cos_y};
+    return {tri.normal, cos_y};
+}
 
 struct McHit {
     double t = 0.0;
@@ -60,6 +72,7 @@ class McBvh {
 public:
     explicit McBvh(const Scene& scene) {
         for (const Mesh& mesh : scene.meshes) {
+            if (mesh.back) continue;  // its front is two-sided
             const Material* material = mesh.material < scene.materials.size() ? &scene.materials[mesh.material] : nullptr;
             for (const UVec3& tri : mesh.triangles) {
                 if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() || tri.z >= mesh.positions.size())
@@ -73,6 +86,7 @@ public:
                 t.e1 = b - a;
                 t.e2 = c - a;
                 t.normal = cross / length;
+                t.two_sided = !mesh.solid;
                 if (material) {
                     t.reflectance = DVec3(material->reflectance);
                     t.emission = DVec3(material->emission);
@@ -327,7 +341,7 @@ inline DVec3 sampleDirect(const McBvh& bvh, const McEmitters& emitters, const DV
     if (!(r2 > 0.0)) return DVec3(0.0);
     const double r = std::sqrt(r2);
     const DVec3 w = to / r;
-    const double cos_x = glm::dot(n, w), cos_y = -glm::dot(light.normal, w);
+    const double cos_x = glm::dot(n, w), cos_y = faceMet(light, w).second;
     if (cos_x <= 0.0 || cos_y <= 0.0) return DVec3(0.0);
     ++rays;
     McHit hit;
@@ -353,7 +367,7 @@ inline DVec3 tracePathNee(const McBvh& bvh, const McEmitters& emitters, const DV
         const DVec3 dir = cosineDirection(normal, random);
         if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) break;
         const McTriangle& tri = bvh.triangles()[hit.triangle];
-        const double cos_y = -glm::dot(dir, tri.normal);
+        const auto [hit_normal, cos_y] = faceMet(tri, dir);
         if (cos_y <= 0.0) break;  // back face: black, absorbs
         const double p_cosine = glm::dot(normal, dir) / kPi;
         const double p_light = lightPdfSolidAngle(emitters, tri, hit.t, cos_y);
@@ -362,8 +376,8 @@ inline DVec3 tracePathNee(const McBvh& bvh, const McEmitters& emitters, const DV
         const double q = std::max(tri.reflectance.x, std::max(tri.reflectance.y, tri.reflectance.z));
         if (q <= 0.0 || random.uniform() >= q) break;
         throughput *= tri.reflectance / q;
-        origin = origin + dir * hit.t + tri.normal * eps;
-        normal = tri.normal;
+        origin = origin + dir * hit.t + hit_normal * eps;
+        normal = hit_normal;
         skip = hit.triangle;
     }
     return sum;
@@ -382,14 +396,15 @@ inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRando
         ++rays;
         if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) break;
         const McTriangle& tri = bvh.triangles()[hit.triangle];
-        if (glm::dot(dir, tri.normal) >= 0.0) break;  // back face: black, absorbs
+        const auto [hit_normal, cos_y] = faceMet(tri, dir);
+        if (cos_y <= 0.0) break;  // back face: black, absorbs
         sum += throughput * (kPi * tri.emission);
         const double q = std::max(tri.reflectance.x, std::max(tri.reflectance.y, tri.reflectance.z));
         if (q <= 0.0 || random.uniform() >= q) break;
         throughput *= tri.reflectance / q;
-        origin = origin + dir * hit.t + tri.normal * eps;
+        origin = origin + dir * hit.t + hit_normal * eps;
         skip = hit.triangle;
-        dir = cosineDirection(tri.normal, random);
+        dir = cosineDirection(hit_normal, random);
     }
     return sum;
 }

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "io/import.h"
+#include "scene/two_sided.h"
 
 namespace {
 
@@ -78,8 +79,9 @@ int main(int argc, char** argv) {
     diagnostics.sink = [](const Diagnostic& d) {
         if (d.severity != Severity::Note) std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str());
     };
-    const std::optional<Scene> scene = importScene(scene_path, import, diagnostics);
+    std::optional<Scene> scene = importScene(scene_path, import, diagnostics);
     if (!scene) return 1;
+    addBackTwins(*scene);  // a two-sided mesh's back vertices are vertices of the bake too
 
     // The scene's diagonal over every vertex a triangle uses (world units, as reference_mc's).
     DVec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());

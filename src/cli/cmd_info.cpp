@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "io/import.h"
+#include "scene/two_sided.h"
 
 namespace radbake::cli {
 namespace {
@@ -23,6 +24,7 @@ int runInfo(const InfoArgs& args) {
     std::optional<Scene> scene = importScene(args.scene, args.import, diagnostics);
     if (!scene) return kExitInputError;
 
+    settleClosedTwoSided(*scene);  // as the bake sees it: closed two-sided meshes dark inside are one-sided
     const SceneSummary s = summarize(*scene);
     if (args.json) {
         // Nine significant digits, as before: enough for a float, without its binary tail.
@@ -39,6 +41,9 @@ int runInfo(const InfoArgs& args) {
         info["hard_edge_vertices"] = scene->crease_split.vertices;
         info["hard_edge_copies"] = scene->crease_split.added;
         info["meshes"] = scene->meshes.size();
+        info["two_sided_meshes"] = s.two_sided_meshes;
+        info["two_sided_polygons"] = s.two_sided_polygons;
+        info["two_sided_closed_meshes"] = s.two_sided_closed_meshes;
         info["area"] = nine(s.area);
         info["bounds"]["min"] = {nine(s.bounds_min.x), nine(s.bounds_min.y), nine(s.bounds_min.z)};
         info["bounds"]["max"] = {nine(s.bounds_max.x), nine(s.bounds_max.y), nine(s.bounds_max.z)};
@@ -53,6 +58,10 @@ int runInfo(const InfoArgs& args) {
     } else {
         std::printf("scene      %s\n", args.scene.c_str());
         std::printf("meshes     %zu\n", scene->meshes.size());
+        // Lit on both sides: the bake gives each a back twin, with its own light and outputs.
+        std::printf("two-sided  %zu meshes, %zu polygons\n", s.two_sided_meshes, s.two_sided_polygons);
+        // Two-sided in the file, but closed with nothing lit inside: their backs are dark (0, exact).
+        std::printf("           %zu closed, dark inside: one-sided\n", s.two_sided_closed_meshes);
         std::printf("polygons   %zu\n", s.polygons);
         std::printf("triangles  %zu\n", s.triangles);
         std::printf("vertices   %zu (%zu split at hard edges, %zu copies)\n", s.vertices,

@@ -529,6 +529,9 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                 materialFor(mesh.material, -1)));
         }
         const std::string name = mesh.name.empty() ? "mesh" + std::to_string(m) : mesh.name;
+        // A back twin (scene/two_sided.h) is the flipped copy that carries the back's light;
+        // both sides are single-sided primitives (glTF's default doubleSided false).
+        if (mesh.back && mesh.twin < scene.meshes.size()) mesh_extras["radbake_back_of"] = scene.meshes[mesh.twin].name;
         GltfJson mesh_json = {{"name", name}, {"primitives", std::move(primitives)}};
         if (!mesh_extras.is_null()) mesh_json["extras"] = std::move(mesh_extras);
         lists.meshes.push_back(std::move(mesh_json));

@@ -68,6 +68,9 @@ std::string formatStatsJson(const BakeReport& r) {
     out["hard_edge_vertices"] = r.hard_edge_vertices;
     out["hard_edge_copies"] = r.hard_edge_copies;
     out["triangles"] = r.triangles;
+    // Only when there are some: a one-sided scene's stats.json keeps its bytes.
+    if (r.two_sided_meshes > 0) out["two_sided_meshes"] = r.two_sided_meshes;
+    if (r.two_sided_closed_meshes > 0) out["two_sided_closed_meshes"] = r.two_sided_closed_meshes;
     out["probes"] = r.probes;
     const LightmapReport& l = r.lightmaps;
     out["lightmaps"] = l.baked;

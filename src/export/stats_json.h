@@ -37,7 +37,9 @@ struct BakeReport {
     SolverOptions options;  // the knobs actually used (after preset and overrides)
     int threads = 0;        // timings.json: worker threads actually used
     double peak_rss_mb = 0.0;  // timings.json
-    size_t meshes = 0, vertices = 0, triangles = 0, probes = 0;
+    size_t meshes = 0, vertices = 0, triangles = 0, probes = 0;  // as written: back twins included
+    size_t two_sided_meshes = 0;  // meshes given a back twin (scene/two_sided.h)
+    size_t two_sided_closed_meshes = 0;  // two-sided, but closed and dark inside: no twin
     // Vertices split at hard edges at import (Scene::crease_split): the shared ones, and the
     // copies added (counted in `vertices`).
     size_t hard_edge_vertices = 0, hard_edge_copies = 0;

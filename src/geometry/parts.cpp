@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <cstring>
 #include <exception>
 #include <unordered_map>
 #include <unordered_set>
@@ -11,6 +10,7 @@
 #include "geometry/box.h"
 #include "geometry/hull.h"
 #include "geometry/polygon.h"
+#include "scene/weld.h"
 
 namespace radbake {
 
@@ -27,35 +27,8 @@ double toleranceFor(std::span<const DVec3> points, double relative) {
 
 uint64_t edgeKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 
-// Mesh vertices welded by exact position: readers split vertices by normal or UV, but
-// adjacency is about positions.
-struct Welded {
-    std::vector<DVec3> points;
-    std::vector<uint32_t> id;  // mesh vertex -> welded index
-};
-
-Welded weld(const Mesh& mesh) {
-    struct Hash {
-        size_t operator()(const Vec3& v) const {
-            uint32_t b[3];
-            std::memcpy(b, &v, sizeof b);
-            return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
-        }
-    };
-    Welded w;
-    std::unordered_map<Vec3, uint32_t, Hash> index;
-    w.id.resize(mesh.positions.size());
-    for (size_t i = 0; i < mesh.positions.size(); ++i) {
-        Vec3 p = mesh.positions[i];
-        if (p.x == 0.0f) p.x = 0.0f;  // -0 and +0 weld
-        if (p.y == 0.0f) p.y = 0.0f;
-        if (p.z == 0.0f) p.z = 0.0f;
-        const auto [it, inserted] = index.emplace(p, uint32_t(w.points.size()));
-        if (inserted) w.points.push_back(DVec3(p));
-        w.id[i] = it->second;
-    }
-    return w;
-}
+// Vertices welded by position (scene/weld.h): adjacency is about positions.
+using Welded = WeldedPositions;
 
 // Welded triangles of the mesh with their polygon, without topologically degenerate ones.
 struct WTri {
@@ -361,18 +334,27 @@ void addPart(PartSet& set, ConvexPart part, uint32_t mesh) {
 void buildMeshParts(const Scene& scene, uint32_t mesh_index, const PartOptions& options, PartSet& set,
                     Diagnostics& diagnostics) {
     const Mesh& mesh = scene.meshes[mesh_index];
+    if (mesh.back && mesh.twin < mesh_index) {
+        // A back twin is its front's surface: the front's parts stand for it (a coincident
+        // copy would only be a potential occluder of every link its own side makes).
+        set.part_mesh[mesh_index] = mesh.twin;
+        set.polygon_part[mesh_index] = set.polygon_part[mesh.twin];
+        return;
+    }
     const uint32_t polygon_count = mesh.triangle_polygon.size() == mesh.triangles.size()
                                        ? mesh.polygon_count
                                        : uint32_t(mesh.triangles.size());
     set.polygon_part[mesh_index].assign(polygon_count, kNoPart);
-    const Welded w = weld(mesh);
+    const Welded w = weldPositions(mesh);
     const std::vector<WTri> tris = weldedTriangles(mesh, w);
     if (tris.empty()) {
         set.stats.degenerate_polygons += polygon_count;
         return;
     }
 
-    if (mesh.convex_solid || options.detect_convex_solids) {
+    // A two-sided surface is seen from inside too: never a solid, whatever its shape.
+    const bool two_sided = mesh.twin != kNoMesh;
+    if (!two_sided && (mesh.convex_solid || options.detect_convex_solids)) {
         // Only the vertices the triangles use: readers may leave unused ones behind.
         std::vector<char> used(w.points.size(), 0);
         for (const WTri& t : tris) used[t.v[0]] = used[t.v[1]] = used[t.v[2]] = 1;
@@ -472,6 +454,8 @@ ConvexPart partFromPoints(const std::vector<DVec3>& points, double relative_tole
 PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& diagnostics) {
     PartSet set;
     set.polygon_part.resize(scene.meshes.size());
+    set.part_mesh.resize(scene.meshes.size());
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) set.part_mesh[m] = m;
     for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
         try {
             buildMeshParts(scene, m, options, set, diagnostics);

@@ -56,6 +56,10 @@ struct PartSet {
     // polygon_part[mesh][polygon]: the part covering that source polygon, kNoPart when the
     // polygon is degenerate. A non-convex polygon may span several parts; this holds one.
     std::vector<std::vector<uint32_t>> polygon_part;
+    // part_mesh[mesh]: the mesh whose parts stand for it, itself or, for a back twin
+    // (scene/two_sided.h), its front (a twin makes no parts of its own). Empty for a
+    // hand-made set: every mesh stands for itself.
+    std::vector<uint32_t> part_mesh;
     Aabb bounds;  // of every part
     // Boxes over the parts, for shaft culling (part_tree.h); built by buildParts. Empty for
     // a hand-made set: candidate lists are then plain part indices.

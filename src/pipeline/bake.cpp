@@ -13,6 +13,7 @@
 #include "io/import.h"
 #include "pipeline/solution_cache.h"
 #include "radiosity/solver.h"
+#include "scene/two_sided.h"
 
 namespace radbake {
 namespace {
@@ -82,6 +83,8 @@ void fillSceneReport(const Scene& scene, Bake& out) {
     for (const Mesh& mesh : scene.meshes) {
         report.vertices += mesh.positions.size();
         report.triangles += mesh.triangles.size();
+        report.two_sided_meshes += mesh.back ? 1 : 0;
+        report.two_sided_closed_meshes += mesh.closed_two_sided ? 1 : 0;
     }
     report.hard_edge_vertices = scene.crease_split.vertices;
     report.hard_edge_copies = scene.crease_split.added;
@@ -231,6 +234,7 @@ Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progres
     Bake out;
     out.options = options;
     out.scene = std::move(scene);
+    addBackTwins(*out.scene);  // before every stage: each side of a two-sided mesh is a mesh of its own
     fillSceneReport(*out.scene, out);
     try {
         bakeStages(out, progress, diagnostics);

@@ -8,6 +8,8 @@
 #include <map>
 #include <sstream>
 
+#include "scene/two_sided.h"
+
 namespace radbake {
 namespace {
 
@@ -83,7 +85,8 @@ std::vector<double> meshTexelScales(const Scene& scene, const std::vector<Lightm
     std::vector<bool> used(rules.size(), false);
     std::vector<double> scales(scene.meshes.size(), 1.0);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
-        const Mesh& mesh = scene.meshes[m];
+        // A back twin takes its front's scale (its name is the front's plus " (back)").
+        const Mesh& mesh = scene.meshes[frontMesh(scene, static_cast<uint32_t>(m))];
         auto it = by_name.find(mesh.name);
         if (it == by_name.end() && mesh.material < scene.materials.size())
             it = by_name.find(scene.materials[mesh.material].name);

@@ -93,6 +93,8 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
         k.addAll(m.polygon_reflectance);
         k.addAll(m.polygon_emission);
         k.add(m.polygon_count), k.add(m.material), k.add(m.solid), k.add(m.convex_solid);
+        // Which meshes are each other's sides (only where there are twins: one-sided keys keep their bytes).
+        if (m.twin != kNoMesh) k.add(m.twin), k.add(m.back);
     }
     k.add(static_cast<uint64_t>(scene.materials.size()));
     for (const Material& m : scene.materials) k.add(m.reflectance), k.add(m.emission);

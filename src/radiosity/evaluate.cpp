@@ -76,7 +76,7 @@ DVec3 evaluate(const Solution& solution, const DVec3& point_on_surface, const DV
                ProbeCounters* counters, uint32_t receiver_mesh) {
     if (solution.elements.empty()) return DVec3(0.0);
     const double lift = gather::kLift * solution.scene_extent;
-    const DVec3 point = gather::liftOffSurfaces(solution, point_on_surface, lift);
+    const DVec3 point = gather::liftOffSurfaces(solution, point_on_surface, normal, lift);
     gather::Gatherer g{.s = solution,
                .point = point,
                .normal = normal,

@@ -268,9 +268,13 @@ inline void addLiftDirection(const Solution& solution, uint32_t root, const DVec
     if (pointPolygonDistance(point, poly) < lift) direction += e.normal;
 }
 
-inline DVec3 liftOffSurfaces(const Solution& solution, const DVec3& point, double lift) {
+// Only polygons on the point's side lift it: one facing (all but) opposite `normal` (the back of a
+// one-sided face the probe sits on, the other side of a two-sided one) would move it to where
+// that face's front is seen.
+inline DVec3 liftOffSurfaces(const Solution& solution, const DVec3& point, const DVec3& normal, double lift) {
     DVec3 direction(0.0);
-    for (uint32_t r = 0; r < solution.root_count; ++r) addLiftDirection(solution, r, point, lift, direction);
+    for (uint32_t r = 0; r < solution.root_count; ++r)
+        if (glm::dot(solution.elements[r].normal, normal) >= -0.99) addLiftDirection(solution, r, point, lift, direction);
     return point + lift * direction;
 }
 

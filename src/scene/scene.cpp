@@ -31,6 +31,14 @@ SceneSummary summarize(const Scene& scene) {
     summary.lights = scene.lights.size();
     Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (const Mesh& mesh : scene.meshes) {
+        // A back twin (scene/two_sided.h) is its front's surface seen from behind: counted
+        // once, as a two-sided mesh, not as more triangles or area.
+        if (mesh.back) continue;
+        summary.two_sided_closed_meshes += mesh.closed_two_sided ? 1 : 0;
+        if (!mesh.solid && !mesh.triangles.empty()) {
+            ++summary.two_sided_meshes;
+            summary.two_sided_polygons += mesh.polygon_count;
+        }
         summary.triangles += mesh.triangles.size();
         summary.polygons += mesh.polygon_count;
         summary.vertices += mesh.positions.size();

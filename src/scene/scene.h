@@ -43,6 +43,9 @@ struct Material {
     bool isEmitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
 
+// "No mesh" for Mesh::twin.
+inline constexpr uint32_t kNoMesh = 0xffffffffu;
+
 // A triangle mesh with one material. Triangles remember the source polygon they came from
 // (convex source polygons are the natural radiosity patches): triangle_polygon[t] is the
 // index of t's polygon, polygons are numbered 0..polygon_count-1 and a polygon's triangles
@@ -62,7 +65,16 @@ struct Mesh {
     std::vector<uint32_t> triangle_polygon;
     uint32_t polygon_count = 0;
     uint32_t material = 0;               // index into Scene::materials
-    bool solid = true;                   // VRML `solid`: back faces may be culled
+    // False: two-sided, lit on both sides, each with its own light (VRML `solid FALSE`, a
+    // VRML 1.0 face set not SOLID with a known ordering, a material marked double-sided).
+    bool solid = true;
+    // Two-sided meshes (scene/two_sided.h): the other side's mesh, kNoMesh when none; `back`
+    // marks the back twin (reversed winding, negated normals), which follows every original mesh.
+    uint32_t twin = kNoMesh;
+    bool back = false;
+    // Two-sided in the source, but closed with nothing lit inside (settleClosedTwoSided): its
+    // backs face only its own dark volume, so it is baked one-sided (solid true), exactly.
+    bool closed_two_sided = false;
     // Radians: an edge whose faces meet at a larger angle is hard, and the vertices along it
     // are split (scene/creases.h); smaller angles are smooth.
     float crease_angle = 0.0f;
@@ -121,14 +133,21 @@ struct Scene {
     // files, MTL files, ...): what a depfile names and what provenance hashes.
     std::vector<std::string> input_files;
     CreaseSplitCounts crease_split;
+    // Back twins' polygons covered by a surface in contact (scene/two_sided.h).
+    size_t covered_back_polygons = 0;
 };
 
 // Summary figures used by `radbake info` and by later stages.
 struct SceneSummary {
+    // Back twins (scene/two_sided.h) are not counted: a two-sided surface counts once here
+    // and once in two_sided_meshes.
     size_t triangles = 0;
     size_t polygons = 0;
     size_t vertices = 0;
     double area = 0.0;  // total one-sided area
+    size_t two_sided_meshes = 0;    // meshes lit on both sides
+    size_t two_sided_polygons = 0;  // their polygons
+    size_t two_sided_closed_meshes = 0;  // two-sided in the source, closed and dark inside: one-sided
     Vec3 bounds_min{0.0f};
     Vec3 bounds_max{0.0f};
     size_t materials = 0;

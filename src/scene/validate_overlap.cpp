@@ -19,17 +19,14 @@
 
 #include "scene/validate_overlap.h"
 
+#include "scene/coplanar.h"
+
 namespace radbake::validation {
 namespace {
 
-// Coplanar means every vertex of each triangle lies within this fraction of the scene's
-// extent from the other's plane: far above float rounding of the same vertices reached
-// through different transforms (2^-24 of the extent), far below any deliberate offset.
-constexpr double kCoplanarRelativeTolerance = 1e-5;
-// ... and their unit normals agree within this in every component (about 0.006 degrees).
-// Copies of one face agree to rounding over its size, so copies of faces larger than about
-// 1e-4 of the extent are caught; tilted near-coplanar slivers are not faces given twice.
-constexpr double kNormalTolerance = 1e-4;
+// Coplanar: scene/coplanar.h's tolerances, shared with the backs in contact (two_sided.cpp).
+constexpr double kCoplanarRelativeTolerance = coplanar::kRelativeTolerance;
+constexpr double kNormalTolerance = coplanar::kNormalTolerance;
 // Hash cells are this many tolerances wide, so a triangle is filed under ~2 cells on average.
 constexpr double kCellsPerTolerance = 16.0;
 // A pair is reported when its overlap exceeds this fraction of the smaller polygon's area:
@@ -164,36 +161,11 @@ int64_t floorToInt(double x) {
     return truncated - (x < static_cast<double>(truncated));
 }
 
-int dominantAxis(const DVec3& n) {
-    const DVec3 a = glm::abs(n);
-    return a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-}
-
-DVec2 project(const DVec3& p, int axis) {
-    return axis == 0 ? DVec2(p.y, p.z) : (axis == 1 ? DVec2(p.z, p.x) : DVec2(p.x, p.y));
-}
-
-double cross2(const DVec2& a, const DVec2& b) { return a.x * b.y - a.y * b.x; }
-
-// A triangle clipped by three half-planes has at most 6 corners; with rounding, the signs
-// along a nearly flat polygon may change more than twice, each clip at most doubling the
-// corners: 3 * 2^3 bounds every case.
-using Polygon2 = std::array<DVec2, 24>;
-
-// Clips `poly` (n corners) by the left side of the directed line a -> b (Sutherland-Hodgman).
-int clipByEdge(const Polygon2& poly, int n, const DVec2& a, const DVec2& b, Polygon2& out) {
-    int count = 0;
-    const DVec2 edge = b - a;
-    for (int i = 0; i < n; ++i) {
-        const DVec2& p = poly[i];
-        const DVec2& q = poly[(i + 1) % n];
-        const double sp = cross2(edge, p - a);
-        const double sq = cross2(edge, q - a);
-        if (sp >= 0.0) out[count++] = p;
-        if ((sp >= 0.0) != (sq >= 0.0)) out[count++] = p + (q - p) * (sp / (sp - sq));
-    }
-    return count;
-}
+using coplanar::clipTriangle;
+using coplanar::cross2;
+using coplanar::dominantAxis;
+using coplanar::Polygon2;
+using coplanar::project;
 
 struct Overlap {
     double area = 0.0;  // 3-D area of the intersection
@@ -447,14 +419,8 @@ private:
         };
         if (separates(ta, tb) || separates(tb, ta)) return;
         Polygon2 buffers[2];  // ping-pong, not copied: this runs for every pair of neighbours
-        Polygon2* poly = &buffers[0];
-        Polygon2* next = &buffers[1];
-        int count = 3;
-        for (int k = 0; k < 3; ++k) (*poly)[k] = tb[k];
-        for (int k = 0; k < 3 && count > 0; ++k) {
-            count = clipByEdge(*poly, count, ta[k], ta[(k + 1) % 3], *next);
-            std::swap(poly, next);
-        }
+        Polygon2* poly = nullptr;
+        const int count = clipTriangle(ta, tb, buffers, poly);
         if (count < 3) return;
         double twice = 0.0;
         DVec2 moment(0.0);

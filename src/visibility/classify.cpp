@@ -212,6 +212,7 @@ std::vector<uint32_t> expandCandidates(const PartSet& parts, std::span<const uin
 }
 
 std::vector<uint32_t> partsOfPolygon(const PartSet& parts, uint32_t mesh, uint32_t polygon) {
+    if (mesh < parts.part_mesh.size()) mesh = parts.part_mesh[mesh];  // a back twin: its front's parts
     std::vector<uint32_t> found;
     for (size_t i = 0; i < parts.parts.size(); ++i) {
         const ConvexPart& part = parts.parts[i];

@@ -55,6 +55,9 @@ struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<MeshCopy> meshes;
+    // Per mesh: its back twin (scene/two_sided.h), kNoMesh when one-sided. A back twin is not
+    // in the structure (it is its front's surface); closestHit names it for hits from behind.
+    std::vector<uint32_t> back_twin;
     size_t triangle_count = 0;
     Aabb bounds;
     DVec3 origin{0.0};  // Embree's frame: world minus origin (the bounds' centre)
@@ -423,7 +426,8 @@ std::unique_ptr<RayCaster> RayCaster::build(const Scene& scene, Diagnostics& dia
         Aabb bounds;
         impl->meshes.reserve(scene.meshes.size());
         for (const Mesh& mesh : scene.meshes) {
-            impl->meshes.push_back(copyMesh(mesh, skipped));
+            impl->back_twin.push_back(!mesh.back && mesh.twin < scene.meshes.size() ? mesh.twin : kNoMesh);
+            impl->meshes.push_back(mesh.back ? MeshCopy{} : copyMesh(mesh, skipped));
             const MeshCopy& copy = impl->meshes.back();
             for (size_t t = 0; t < copy.triangles.size(); ++t)
                 if (copy.valid[t])
@@ -594,12 +598,23 @@ std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& di
         if (triangle >= map.size()) return std::nullopt;
         triangle = map[triangle];
     }
-    if (triangle >= impl_->meshes[mesh].triangles.size()) return std::nullopt;
+    const MeshCopy& copy = impl_->meshes[mesh];
+    if (triangle >= copy.triangles.size()) return std::nullopt;
     RayHit hit;
     hit.triangle = {mesh, triangle};
     hit.t = static_cast<double>(query.ray.tfar);
     hit.u = static_cast<double>(query.hit.u);
     hit.v = static_cast<double>(query.hit.v);
+    const uint32_t back = impl_->back_twin[mesh];
+    if (back != kNoMesh) {
+        const UVec3& tri = copy.triangles[triangle];
+        const DVec3& a = copy.positions[tri.x];
+        const DVec3 normal = glm::cross(copy.positions[tri.y] - a, copy.positions[tri.z] - a);
+        if (glm::dot(normal, unit) > 0.0) {  // seen from behind: the back twin's triangle t, corners 1 and 2 swapped
+            hit.triangle.mesh = back;
+            std::swap(hit.u, hit.v);
+        }
+    }
     return hit;
 }
 

@@ -64,6 +64,10 @@ public:
     // casts a few segments from one point to each element it gathers from.
     size_t countOpenFrom(const DVec3& from, std::span<const DVec3> to) const;
 
+    // Back twins (scene/two_sided.h) are not in the structure: their front blocks for both
+    // sides. closestHit reports a hit on a two-sided front from behind as the back twin's
+    // triangle of the same index (u and v swapped, as its corners 1 and 2 are).
+    //
     // The nearest triangle (either face) hit by the ray origin + t * normalize(direction) with
     // t in [epsilon(), t_max] (the start is offset like a segment's, so a ray leaving a surface
     // does not hit it); nullopt on a miss, a zero or non-finite direction, or t_max < epsilon().

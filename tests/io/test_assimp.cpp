@@ -84,6 +84,15 @@ usemtl lamp
 f 5 6 7 8
 )";
 
+// The end of a glTF file whose accessor 0 is one triangle (0,0,0), (1,0,0), (0,1,0).
+const std::string kUnitTriangleBuffers = R"(
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "buffers": [{"byteLength": 36,
+    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
+})";
+
 }  // namespace
 
 TEST_CASE("OBJ quad stays one polygon of two triangles; MTL Kd and Ke mapped") {
@@ -109,7 +118,7 @@ TEST_CASE("OBJ quad stays one polygon of two triangles; MTL Kd and Ke mapped") {
         CHECK(mesh.positions.size() == 4);
         CHECK(mesh.triangle_polygon == std::vector<uint32_t>{0, 0});
         CHECK(mesh.location.file == obj);
-        CHECK(!mesh.solid);  // OBJ promises nothing about sides: both count
+        CHECK(mesh.solid);  // OBJ promises nothing about sides: one-sided, the front lit
     }
     const Material* white = findMaterial(*scene, "white");
     const Material* lamp = findMaterial(*scene, "lamp");
@@ -221,12 +230,7 @@ TEST_CASE("glTF node transforms are baked into world space") {
   "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
   "materials": [{"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1]},
                  "emissiveFactor": [1, 0, 0]}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]}],
-  "bufferViews": [{"buffer": 0, "byteLength": 36}],
-  "buffers": [{"byteLength": 36,
-    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
-})");
+)" + kUnitTriangleBuffers);
     Diagnostics diagnostics;
     std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
     REQUIRE(scene);
@@ -243,6 +247,30 @@ TEST_CASE("glTF node transforms are baked into world space") {
     CHECK(material.name == "paint");
     CHECK(material.reflectance == Vec3(0.25f, 0.5f, 0.75f));
     CHECK(material.emission == Vec3(1, 0, 0));
+}
+
+TEST_CASE("glTF doubleSided (through Assimp's AI_MATKEY_TWOSIDED) makes a two-sided mesh") {
+    TempDir dir;
+    // Two one-triangle meshes, one per material: "thin" marked doubleSided, "plain" not.
+    const std::string gltf = dir.write("sides.gltf", R"({
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0, 1]}],
+  "nodes": [{"name": "a", "mesh": 0}, {"name": "b", "mesh": 1}],
+  "meshes": [{"name": "thin", "primitives": [{"attributes": {"POSITION": 0}, "material": 0}]},
+             {"name": "plain", "primitives": [{"attributes": {"POSITION": 0}, "material": 1}]}],
+  "materials": [{"name": "leaf", "doubleSided": true}, {"name": "paint", "doubleSided": false}],
+)" + kUnitTriangleBuffers);
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
+    REQUIRE(scene);
+    REQUIRE(scene->meshes.size() == 2);
+    for (const Mesh& mesh : scene->meshes) {
+        CAPTURE(mesh.name);
+        const std::string& material = scene->materials.at(mesh.material).name;
+        CHECK(mesh.solid == (material == "paint"));
+    }
+    CHECK(summarize(*scene).two_sided_meshes == 1);
 }
 
 TEST_CASE("a non-finite vertex is a located error and importScene returns nullopt") {
@@ -342,12 +370,7 @@ TEST_CASE("mirroring node transform keeps the front face (winding reversed)") {
   "scenes": [{"nodes": [0]}],
   "nodes": [{"name": "m", "scale": [-1, 1, 1], "mesh": 0}],
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]}],
-  "bufferViews": [{"buffer": 0, "byteLength": 36}],
-  "buffers": [{"byteLength": 36,
-    "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]
-})");
+)" + kUnitTriangleBuffers);
     Diagnostics diagnostics;
     std::optional<Scene> scene = importScene(gltf, {}, diagnostics);
     REQUIRE(scene);

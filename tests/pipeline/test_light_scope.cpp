@@ -114,9 +114,40 @@ TEST_CASE("light scope: a VRML 1.0 light lights what follows it in its Separator
                                     "#VRML V1.0 ascii\nSeparator {\n Material { diffuseColor 0.5 0.5 0.5 }\n"
                                     " Separator { " + floor10(0.0f) + " DirectionalLight { direction 0 -1 0 } " +
                                         floor10(3.0f) + " }\n " + floor10(6.0f) + "}\n"));
-    REQUIRE(v1.bake.scene->meshes.size() == 3);
-    CHECK(v1.bake.scene->lights[0].scope == std::vector<uint32_t>{1});
+    // VRML 1.0 faces are two-sided by the ShapeHints default: three floors and their back twins,
+    // and the light's scope takes in floor 1's twin too.
+    REQUIRE(v1.bake.scene->meshes.size() == 6);
+    CHECK(v1.bake.scene->lights[0].scope == std::vector<uint32_t>{1, v1.bake.scene->meshes[1].twin});
     checkMesh(v1.bake, 0, 0.0);
     checkMesh(v1.bake, 1, 1.0 / kPi);
     checkMesh(v1.bake, 2, 0.0);
+}
+
+TEST_CASE("light scope: a scoped DirectionalLight lights a two-sided wall's back through its twin") {
+    // Two solid FALSE walls in the plane z = 0, fronts facing +z; the light, in wall A's Group,
+    // shines along +z onto the backs. The twins get new mesh indices (after every original
+    // mesh), and the light's scope must take in A's twin: A's back reads E = 1, H / pi = 1 / pi,
+    // A's front 0, and B (outside the scope) 0 on both sides.
+    TempDir dir;
+    const auto wall = [](float x0) {
+        const std::string a = std::to_string(x0), b = std::to_string(x0 + 2.0f);
+        return "Shape { appearance Appearance { material Material { diffuseColor 0.5 0.5 0.5 } }\n"
+               " geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ " + a + " 0 0, " + b + " 0 0, " + b +
+               " 2 0, " + a + " 2 0 ] } coordIndex [ 0 1 2 3 -1 ] } }\n";
+    };
+    const Baked walls = bakeFile(testfs::writeText(dir, "walls.wrl",
+                                       "#VRML V2.0 utf8\n"
+                                       "Group { children [ " + wall(0.0f) + " DirectionalLight { direction 0 0 1 } ] }\n"
+                                       "Group { children [ " + wall(3.0f) + " ] }\n"));
+    const Scene& scene = *walls.bake.scene;
+    REQUIRE(scene.meshes.size() == 4);
+    const uint32_t a_back = scene.meshes[0].twin, b_back = scene.meshes[1].twin;
+    REQUIRE(a_back == 2);
+    REQUIRE(b_back == 3);
+    CHECK(scene.lights[0].scoped);
+    CHECK(scene.lights[0].scope == std::vector<uint32_t>{0, a_back});
+    checkMesh(walls.bake, a_back, 1.0 / kPi);
+    checkMesh(walls.bake, 0, 0.0);
+    checkMesh(walls.bake, 1, 0.0);
+    checkMesh(walls.bake, b_back, 0.0);
 }

@@ -312,14 +312,15 @@ struct Converter {
             if (node.mChildren[c]) visit(*node.mChildren[c], world_from_node);
     }
 
-    // Single-sided (VRML `solid`) only where the file says so: glTF materials are single-sided
-    // unless marked doubleSided; OBJ, PLY and most others promise nothing, so both sides
-    // count, which never loses light.
+    // Two-sided (lit on both sides, scene/two_sided.h) only where the file says so: a material
+    // with AI_MATKEY_TWOSIDED set (glTF `doubleSided`, which Assimp's glTF importer copies
+    // there; FBX, COLLADA and 3DS flags). OBJ, PLY and most others promise nothing: one-sided,
+    // as the front of every face is lit.
     bool isSingleSided(unsigned material) const {
-        if (material >= ai.mNumMaterials || ai.mMaterials[material] == nullptr) return false;
+        if (material >= ai.mNumMaterials || ai.mMaterials[material] == nullptr) return true;
         int two_sided = 0;
         if (ai.mMaterials[material]->Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) return two_sided == 0;
-        return isGltf(path);
+        return true;
     }
 
     void convertMaterials() {
