@@ -48,6 +48,7 @@ std::string formatStatsJson(const BakeReport& r) {
     out["contact_cuts"] = s.contact_cuts;
     out["leaves"] = s.leaves;
     out["partial_links"] = s.partial_links;
+    out["limited_row_sums"] = s.limited_row_sums;
     out["candidate_links"] = s.candidate_links;
     out["shafts"] = s.shafts;
     out["occluded_links"] = s.occluded_links;

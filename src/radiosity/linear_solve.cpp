@@ -43,6 +43,7 @@ struct Operator {
         pushed.assign(s.elements.size(), DVec3(0.0));
         computeCorrections();
         cluster_share = clusters.leafFactors(s, runner, leaves);
+        limitRowSums();
     }
 
     // Pushing a link's irradiance down assumes the form factor is uniform over its receiver;
@@ -104,10 +105,44 @@ struct Operator {
         }
     }
 
-    // y = rho K x (x, y: leaf radiosities / reflected exitance).
-    void apply(const Vector& x, Vector& y) {
-        for (size_t k = 0; k < leaves.size(); ++k) s.elements[leaves[k]].radiosity = x[k];
+    // No surface sees more than its hemisphere: a leaf's row sum (its form factors to every
+    // source, element and cluster links alike) is at most 1. Where it is more, visibility or
+    // a cluster kernel was wrong: stacked layers a few millimetres apart each counted as seen
+    // (the sides inside a thin closed binder), a separable kernel misread close to its
+    // receiver. House.wrl had leaves at 2.7 and graz.wrl at 3.0, office.wrl at 9.8 from cluster
+    // links; with rho near 1 such rows amplify light (no physical solution) and took GMRES
+    // hundreds of iterations. Such a row is scaled to 1, keeping its sources' proportions. Rows
+    // up to kRowLimit are left: next to a contact line the quadrature reads single leaves up to
+    // 1.24 (duplex.wrl), which their neighbours make up (a root keeps its power, above), and
+    // scaling those moved duplex's probes away from their Monte Carlo reference.
+    static constexpr double kRowLimit = 1.25;
+    void limitRowSums() {
+        std::vector<DVec3> saved(leaves.size());
+        for (size_t k = 0; k < leaves.size(); ++k) {
+            saved[k] = s.elements[leaves[k]].radiosity;
+            s.elements[leaves[k]].radiosity = DVec3(1.0);
+        }
         pullRadiosity(s);
+        gatherElementLinks();
+        if (!clusters.empty()) clusters.gather(s, runner, cluster_h);
+        size_t limited = 0;
+        for (size_t k = 0; k < leaves.size(); ++k) {
+            const Element& leaf = s.elements[leaves[k]];
+            double row = correction[k] * pushed[leaves[k]].x;
+            if (!clusters.empty()) row += cluster_share[k] * cluster_h[leaf.root].x;
+            if (row > kRowLimit) {
+                correction[k] /= row;
+                if (!clusters.empty()) cluster_share[k] /= row;
+                ++limited;
+            }
+        }
+        s.stats.limited_row_sums = std::max(s.stats.limited_row_sums, limited);
+        for (size_t k = 0; k < leaves.size(); ++k) s.elements[leaves[k]].radiosity = saved[k];
+        pullRadiosity(s);
+    }
+
+    // gathered = sum over the element's own links of F B, pushed = that summed down from the roots.
+    void gatherElementLinks() {
         runner.forRanges(s.elements.size(), 256, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
                 DVec3 h(0.0);
@@ -121,6 +156,13 @@ struct Operator {
             const Element& e = s.elements[i];
             pushed[i] = e.gathered + (e.parent == kNoElement ? DVec3(0.0) : pushed[e.parent]);
         }
+    }
+
+    // y = rho K x (x, y: leaf radiosities / reflected exitance).
+    void apply(const Vector& x, Vector& y) {
+        for (size_t k = 0; k < leaves.size(); ++k) s.elements[leaves[k]].radiosity = x[k];
+        pullRadiosity(s);
+        gatherElementLinks();
         y.resize(leaves.size());
         for (size_t k = 0; k < leaves.size(); ++k)
             y[k] = correction[k] * (s.elements[leaves[k]].reflectance * pushed[leaves[k]]);

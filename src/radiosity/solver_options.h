@@ -110,6 +110,7 @@ struct SolveStats {
     size_t dropped_links = 0;
     size_t reopened_links = 0;
     size_t partial_links = 0;         // final links found partly hidden (visibility < 1)
+    size_t limited_row_sums = 0;      // leaves whose form factors summed to more than 1, scaled to 1 (largest over the solves)
     size_t classify_fallbacks = 0;    // links whose shaft classification failed (out of memory): kept partial
     int rounds = 0;
     double residual = 0.0;            // final relative residual
