@@ -5,7 +5,9 @@
                                   [--worst N] [--csv OUT.csv] [--json]
 
 BAKE_DIR is a `radbake bake SCENE --probes FILE` output folder (its probes.csv; a probes.csv
-path works too), REFERENCE.csv is `reference_mc SCENE FILE` on the same probe file
+path works too); with --vertices its .ply is read instead: the baked value of the output
+vertex each probe was made from (the vertex with the probe's normal nearest to it), times pi:
+what a vertex bake gives, where probes.csv is the solution read at the nudged points, REFERENCE.csv is `reference_mc SCENE FILE` on the same probe file
 (tools/vertex_reference.sh writes both the probe file, one probe per vertex nudged into its own
 face, and the reference). Rows are matched by order and their positions checked, as
 tools/harness.py does.
@@ -23,9 +25,11 @@ With --probes (the probe file both were made from) the worst probes are named by
 `# mesh M vertex V` comments tools/vertex_probes writes. Python standard library only.
 """
 import argparse
+import glob
 import json
 import math
 import os
+import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -95,6 +99,58 @@ def score(bake_rows, reference_rows, lit="max"):
     return result, errors
 
 
+def read_ply_vertices(path):
+    """(x, y, z, nx, ny, nz, red, green, blue) of every vertex of a radbake .ply (binary, floats)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii").splitlines()
+    count = next(int(line.split()[2]) for line in header if line.startswith("element vertex"))
+    names = [line.split()[2] for line in header if line.startswith("property float")]
+    wanted = ("x", "y", "z", "nx", "ny", "nz", "red", "green", "blue")
+    if len(names) < 9 or tuple(names[:9]) != wanted:
+        raise ValueError("%s: expected vertex properties %s, found %s" % (path, wanted, names))
+    stride = 4 * len(names)
+    return [struct.unpack_from("<9f", data, end + i * stride) for i in range(count)]
+
+
+def vertex_rows(bake_dir, reference_rows):
+    """Bake rows for the reference's probes from the .ply's vertices: pi x the value of the vertex
+    with the probe's normal nearest to the probe (the nudge is 1e-4 of the diagonal)."""
+    plys = sorted(glob.glob(os.path.join(bake_dir, "*.ply")))
+    if len(plys) != 1:
+        raise ValueError("%s: expected one .ply, found %d" % (bake_dir, len(plys)))
+    vertices = read_ply_vertices(plys[0])
+    lo = [min(v[k] for v in vertices) for k in range(3)]
+    hi = [max(v[k] for v in vertices) for k in range(3)]
+    cell = max(1e-12, 1e-3 * math.sqrt(sum((b - a) ** 2 for a, b in zip(lo, hi))))
+    grid = {}
+    for i, v in enumerate(vertices):
+        grid.setdefault(tuple(int(math.floor(v[k] / cell)) for k in range(3)), []).append(i)
+    rows = []
+    for ref in reference_rows:
+        q = [float(ref[k]) for k in ("x", "y", "z")]
+        n = [float(ref[k]) for k in ("nx", "ny", "nz")]
+        key = [int(math.floor(q[k] / cell)) for k in range(3)]
+        best, best_d = None, float("inf")
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    for i in grid.get((key[0] + dx, key[1] + dy, key[2] + dz), ()):
+                        v = vertices[i]
+                        if sum(v[3 + k] * n[k] for k in range(3)) < 0.999:
+                            continue
+                        d = sum((v[k] - q[k]) ** 2 for k in range(3))
+                        if d < best_d:
+                            best, best_d = v, d
+        if best is None:
+            raise ValueError("no output vertex with normal %s near probe at %s" % (n, q))
+        row = dict(ref)
+        row["r"], row["g"], row["b"] = (math.pi * best[6], math.pi * best[7], math.pi * best[8])
+        rows.append(row)
+    return rows
+
+
 def probe_labels(path):
     """The comment of every probe line of a probe file, in order (what vertex_probes writes)."""
     labels = []
@@ -111,16 +167,20 @@ def main(argv):
     p.add_argument("bake", help="a radbake bake folder (its probes.csv is read) or a probes.csv")
     p.add_argument("reference", help="reference_mc's CSV for the same probe file")
     p.add_argument("--probes", help="the probe file, to name the worst probes")
+    p.add_argument("--vertices", action="store_true", help="score the .ply's output vertices, not probes.csv")
     p.add_argument("--lit", choices=("max", "median"), default="max", help="lit: reference above 1%% of this")
     p.add_argument("--worst", type=int, default=5, help="how many of the worst probes to list")
     p.add_argument("--csv", help="write every lit probe's x,y,z,reference,bake,rel_error here")
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     args = p.parse_args(argv[1:])
 
-    bake_csv = os.path.join(args.bake, "probes.csv") if os.path.isdir(args.bake) else args.bake
-    bake_rows = read_csv_rows(bake_csv)
     reference_rows = read_csv_rows(args.reference)
     try:
+        if args.vertices:
+            bake_rows = vertex_rows(args.bake, reference_rows)
+        else:
+            bake_csv = os.path.join(args.bake, "probes.csv") if os.path.isdir(args.bake) else args.bake
+            bake_rows = read_csv_rows(bake_csv)
         result, errors = score(bake_rows, reference_rows, args.lit)
     except ValueError as e:
         sys.stderr.write("vertex_error: error: %s\n" % e)

@@ -222,9 +222,9 @@ Bake bakeText(const std::string& text, const BakeOptions& options) {
 }  // namespace
 
 TEST_CASE("a closed solid FALSE box in a lit room gets no back twin and bakes as the solid TRUE box") {
-    const std::vector<Probe> probes = {{DVec3(0.5, 0.0, 0.5), DVec3(1, 0, 0)},   // the box's side, outside
-                                       {DVec3(0.0, 0.0, 1.0), DVec3(0, 0, 1)},   // its top
-                                       {DVec3(0.0, 0.0, 0.5), DVec3(1, 0, 0)}};  // inside it
+    const std::vector<Probe> probes = {{DVec3(0.5, 0.0, 0.5), DVec3(1, 0, 0), {}},   // the box's side, outside
+                                       {DVec3(0.0, 0.0, 1.0), DVec3(0, 0, 1), {}},   // its top
+                                       {DVec3(0.0, 0.0, 0.5), DVec3(1, 0, 0), {}}};  // inside it
     const Bake two_sided = bakeText(roomWithBox("FALSE"), defaultOptions(probes));
     const Bake one_sided = bakeText(roomWithBox("TRUE"), defaultOptions(probes));
     REQUIRE(two_sided.scene->meshes.size() == 3);  // no twin
@@ -261,7 +261,7 @@ TEST_CASE("a closed solid FALSE box in a lit room gets no back twin and bakes as
 }
 
 TEST_CASE("a closed solid FALSE box with a PointLight inside keeps its back twin and is lit inside") {
-    const std::vector<Probe> probes = {{DVec3(0.0, 0.0, 0.01), DVec3(0, 0, 1)}};  // the box's floor, inside
+    const std::vector<Probe> probes = {{DVec3(0.0, 0.0, 0.01), DVec3(0, 0, 1), {}}};  // the box's floor, inside
     const Bake b = bakeText(roomWithBox("FALSE", "PointLight { location 0 0 0.5 intensity 1 }\n"), defaultOptions(probes));
     const Scene& scene = *b.scene;
     REQUIRE(scene.meshes.size() == 4);
@@ -296,7 +296,7 @@ TEST_CASE("a closed two-sided emitter in one mesh keeps its twin: the outward fu
         "  geometry IndexedFaceSet { solid FALSE\n"
         "    coord Coordinate { point [0 0 0, 1 0 0, 1 1 0, 0 1 0, 0 0 1, 1 0 1, 1 1 1, 0 1 1] }\n"
         "    coordIndex [0 3 2 1 -1, 4 5 6 7 -1, 0 1 5 4 -1, 1 2 6 5 -1, 2 3 7 6 -1, 3 0 4 7 -1] } }\n";
-    const std::vector<Probe> probes = {{DVec3(0.5), DVec3(0, 0, 1)}, {DVec3(0.5), DVec3(1, 0, 0)}};
+    const std::vector<Probe> probes = {{DVec3(0.5), DVec3(0, 0, 1), {}}, {DVec3(0.5), DVec3(1, 0, 0), {}}};
     const Bake b = bakeText(cube, defaultOptions(probes));
     REQUIRE(b.scene->meshes.size() == 2);
     CHECK(b.report.two_sided_meshes == 1);

@@ -1,0 +1,225 @@
+// Edges, corners and contact lines against closed forms (issue 13), from file to bake at the
+// default quality: output vertices hold the limit of the value from inside their own face (the
+// point nudged 1e-4 into it, as a path tracer gives), probes near an edge the value where they are.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "export/mesh_attributes.h"
+#include "radbake.h"
+#include "radiosity/form_factor.h"
+#include "../export/temp_files.h"
+
+using namespace radbake;
+using testfs::TempDir;
+
+namespace {
+
+constexpr double kNudge = 1e-4;
+
+Bake bakeFile(const std::string& path, std::optional<std::vector<Probe>> probes = std::nullopt) {
+    BakeOptions options = BakeOptions::forQuality(Quality::Medium);
+    options.lightmaps.enabled = false;
+    options.threading.threads = 2;
+    options.probes = std::move(probes);
+    Progress progress(false);
+    Diagnostics diagnostics;
+    Bake baked = bake(path, options, progress, diagnostics);
+    for (const Diagnostic& d : diagnostics.all()) MESSAGE(formatDiagnostic(d));
+    REQUIRE(std::string(toString(baked.status)) == "ok");
+    return baked;
+}
+
+// An IndexedFaceSet of n x n quads over the rectangle origin + [0, 1] u + [0, 1] v, facing u x v.
+std::string gridShape(const std::string& material, DVec3 origin, DVec3 u, DVec3 v, int n) {
+    std::ostringstream out;
+    out << "Shape { appearance Appearance { material Material { " << material << " } }\n"
+        << " geometry IndexedFaceSet { creaseAngle 0 coord Coordinate { point [\n";
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const DVec3 p = origin + (double(i) / n) * u + (double(j) / n) * v;
+            out << "  " << p.x << ' ' << p.y << ' ' << p.z << ",\n";
+        }
+    out << " ] }\n coordIndex [\n";
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i;
+            out << "  " << a << ' ' << a + 1 << ' ' << a + n + 2 << ' ' << a + n + 1 << " -1,\n";
+        }
+    out << " ] } }\n";
+    return out.str();
+}
+
+// The point moved kNudge into the axis-aligned rectangle [lo, hi] (one coordinate of lo and hi equal).
+DVec3 nudgeInto(DVec3 p, DVec3 lo, DVec3 hi) {
+    for (int k = 0; k < 3; ++k)
+        if (hi[k] > lo[k]) p[k] = std::clamp(p[k], lo[k] + kNudge, hi[k] - kNudge);
+    return p;
+}
+
+Probe probeAt(DVec3 position, DVec3 normal) {
+    Probe probe;
+    probe.position = position;
+    probe.normal = normal;
+    return probe;
+}
+
+struct ErrorTally {
+    double worst = 0.0;
+    size_t count = 0;
+    void add(double value, double expected) {
+        worst = std::max(worst, std::abs(value / expected - 1.0));
+        ++count;
+    }
+};
+
+}  // namespace
+
+// A black floor x in [0, 2], z in [-1, 1] (y = 0, facing up) hinged at x = 0 to an emitting wall
+// (radiance 1, black, y in [0, 1], facing +x). H / pi at a floor point is its form factor to the
+// wall: 1/2 on the hinge (the limit from inside the floor), falling off with distance.
+TEST_CASE("a 90-degree hinge between an emitter and a floor: vertices and probes on and near it") {
+    TempDir dir;
+    const DVec3 floor_lo(0, 0, -1), floor_hi(2, 0, 1);
+    const std::vector<DVec3> wall = {{0, 0, -1}, {0, 0, 1}, {0, 1, 1}, {0, 1, -1}};  // faces +x
+    const std::string path = testfs::writeText(
+        dir, "hinge.wrl",
+        "#VRML V2.0 utf8\n" + gridShape("diffuseColor 0 0 0", {0, 0, 1}, {2, 0, 0}, {0, 0, -2}, 8) +
+            gridShape("diffuseColor 0 0 0 emissiveColor 1 1 1", {0, 0, 1}, {0, 0, -2}, {0, 1, 0}, 4));
+    std::vector<Probe> probes;
+    for (const double x : {0.0, 1e-3, 1e-2, 0.1, 0.5})
+        for (const double z : {0.0, 0.9}) probes.push_back(probeAt(DVec3(x, 0, z), DVec3(0, 1, 0)));
+    const Bake baked = bakeFile(path, probes);
+    const Mesh& floor = baked.scene->meshes[0];
+    const std::vector<Vec3>& values = baked.vertices.values[0];
+    ErrorTally vertices, on_hinge, near;
+    for (size_t v = 0; v < floor.positions.size(); ++v) {
+        // Not the floor's two corners at the wall's ends: there the limit depends on the way in
+        // (1/4 of the wall along the hinge, 3/8 along the diagonal a path tracer nudges in); the
+        // vertex bake reads 1/4 (the issue's note, session 7).
+        if (floor.positions[v].x == 0.0f && std::abs(floor.positions[v].z) == 1.0f) continue;
+        const DVec3 p = nudgeInto(DVec3(floor.positions[v]), floor_lo, floor_hi);
+        const double expected = pointPolygonFormFactor(p, {0, 1, 0}, wall, {1, 0, 0});
+        CAPTURE(floor.positions[v].x);
+        CAPTURE(floor.positions[v].z);
+        CAPTURE(values[v].x);
+        CAPTURE(expected);
+        CHECK(std::abs(values[v].x / expected - 1.0) < 0.02);
+        (floor.positions[v].x == 0.0f ? on_hinge : vertices).add(values[v].x, expected);
+    }
+    CHECK(on_hinge.count == 7);
+    for (size_t i = 0; i < probes.size(); ++i) {
+        const DVec3 p = nudgeInto(probes[i].position, floor_lo, floor_hi);
+        const double expected = kPi * pointPolygonFormFactor(p, {0, 1, 0}, wall, {1, 0, 0});
+        CAPTURE(probes[i].position.x);
+        CAPTURE(probes[i].position.z);
+        CHECK(std::abs(baked.probe_irradiance[i].x / expected - 1.0) < 0.02);
+        near.add(baked.probe_irradiance[i].x, expected);
+    }
+    MESSAGE("hinge: worst vertex on it " << on_hinge.worst << ", elsewhere " << vertices.worst << "; worst probe "
+                                         << near.worst);
+}
+
+// A black 1 m cube standing on a 20 x 20 m emitting floor (radiance 1, black). A side face's H / pi
+// is its unoccluded form factor to the floor (the cube is behind it): 1/2 on its bottom edge, the
+// limit from inside the face; probes 1 mm above that edge, facing away, within 2 %.
+TEST_CASE("a black block standing on an emitting floor: its bottom edges hold 1/2, probes 1 mm up the closed form") {
+    TempDir dir;
+    const std::vector<DVec3> floor = {{-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}};
+    const std::string path = testfs::writeText(
+        dir, "block_on_floor.wrl",
+        "#VRML V2.0 utf8\n"
+        "Shape { appearance Appearance { material Material { diffuseColor 0 0 0 emissiveColor 1 1 1 } }\n"
+        " geometry IndexedFaceSet { coord Coordinate { point [ -10 0 -10, -10 0 10, 10 0 10, 10 0 -10 ] }\n"
+        "  coordIndex [ 0 1 2 3 -1 ] } }\n"
+        "Transform { translation 0 0.5 0 children Shape {\n"
+        " appearance Appearance { material Material { diffuseColor 0 0 0 } } geometry Box { size 1 1 1 } } }\n");
+    std::vector<Probe> probes;
+    for (const double z : {0.0, 0.3, 0.49}) {
+        probes.push_back(probeAt(DVec3(0.5, 1e-3, z), DVec3(1, 0, 0)));
+        probes.push_back(probeAt(DVec3(z, 1e-3, -0.5), DVec3(0, 0, -1)));
+    }
+    const Bake baked = bakeFile(path, probes);
+    const Mesh& cube = baked.scene->meshes[1];
+    REQUIRE(cube.positions.size() == 24);
+    const std::vector<Vec3>& values = baked.vertices.values[1];
+    const std::vector<Vec3> normals = vertexNormals(cube);
+    ErrorTally bottom_edge, sides;
+    for (size_t v = 0; v < cube.positions.size(); ++v) {
+        const DVec3 n(normals[v]);
+        if (std::abs(n.y) > 0.5) continue;  // top: unlit; bottom: in contact with the floor
+        // Nudged into the side face: up, and towards the face's centre along it.
+        DVec3 p(cube.positions[v]);
+        p.y = std::clamp(p.y, kNudge, 1.0 - kNudge);
+        const DVec3 along = glm::cross(n, DVec3(0, 1, 0));
+        p -= kNudge * (glm::dot(p, along) > 0 ? along : -along);
+        const double expected = pointPolygonFormFactor(p, n, floor, {0, 1, 0});
+        CAPTURE(cube.positions[v].x);
+        CAPTURE(cube.positions[v].y);
+        CAPTURE(cube.positions[v].z);
+        CHECK(std::abs(values[v].x / expected - 1.0) < 0.02);
+        (cube.positions[v].y < 0.5f ? bottom_edge : sides).add(values[v].x, expected);
+        if (cube.positions[v].y < 0.5f) CHECK(std::abs(expected - 0.5) < 0.015);
+    }
+    CHECK(bottom_edge.count == 8);
+    ErrorTally near;
+    for (size_t i = 0; i < probes.size(); ++i) {
+        const double expected = kPi * pointPolygonFormFactor(probes[i].position, probes[i].normal, floor, {0, 1, 0});
+        CAPTURE(probes[i].position);
+        CHECK(std::abs(baked.probe_irradiance[i].x / expected - 1.0) < 0.02);
+        near.add(baked.probe_irradiance[i].x, expected);
+    }
+    MESSAGE("block on floor: worst bottom-edge vertex " << bottom_edge.worst << ", top edge " << sides.worst
+                                                        << ", worst probe 1 mm up " << near.worst);
+}
+
+// A closed furnace (every face emitting radiance 1, reflectance rho, each face a grid of quads):
+// H = pi L / (1 - rho) everywhere, so H / pi = 1 / (1 - rho) at every vertex, on its edges and
+// corners too, and at probes on edges and in corners.
+TEST_CASE("a furnace's edges and corners: H = pi L / (1 - rho) at every vertex and at edge and corner probes") {
+    for (const double rho : {0.5, 0.9}) {
+        CAPTURE(rho);
+        TempDir dir;
+        std::ostringstream material;
+        material << "diffuseColor " << rho << ' ' << rho << ' ' << rho << " emissiveColor 1 1 1";
+        const std::string m = material.str();
+        // Six faces of the unit cube, each facing in.
+        const std::string scene = "#VRML V2.0 utf8\n" + gridShape(m, {0, 0, 0}, {0, 0, 1}, {1, 0, 0}, 4) +  // y = 0, +y
+                                  gridShape(m, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, 4) +                      // y = 1, -y
+                                  gridShape(m, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 4) +                      // x = 0, +x
+                                  gridShape(m, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 4) +                      // x = 1, -x
+                                  gridShape(m, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 4) +                      // z = 0, +z
+                                  gridShape(m, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, 4);                       // z = 1, -z
+        const std::string path = testfs::writeText(dir, "furnace.wrl", scene);
+        const std::vector<Probe> probes = {probeAt({0, 0, 0}, glm::normalize(DVec3(1, 1, 1))),  // a corner
+                                           probeAt({0.5, 0, 0}, glm::normalize(DVec3(0, 1, 1))),  // an edge
+                                           probeAt({0, 0.3, 1}, glm::normalize(DVec3(1, 0, -1))),
+                                           probeAt({1e-3, 0.5, 0.5}, {1, 0, 0})};
+        const Bake baked = bakeFile(path, probes);
+        const double expected = 1.0 / (1.0 - rho);
+        ErrorTally corners, rest;
+        for (size_t mesh = 0; mesh < 6; ++mesh) {
+            const Mesh& face = baked.scene->meshes[mesh];
+            for (size_t v = 0; v < face.positions.size(); ++v) {
+                const Vec3 p = face.positions[v];
+                const int on_edges = (p.x == 0.0f || p.x == 1.0f) + (p.y == 0.0f || p.y == 1.0f) + (p.z == 0.0f || p.z == 1.0f);
+                CAPTURE(p);
+                CHECK(std::abs(baked.vertices.values[mesh][v].x / expected - 1.0) < 0.02);
+                (on_edges == 3 ? corners : rest).add(baked.vertices.values[mesh][v].x, expected);
+            }
+        }
+        CHECK(corners.count == 24);
+        ErrorTally at_probes;
+        for (size_t i = 0; i < probes.size(); ++i) {
+            CAPTURE(probes[i].position);
+            CHECK(std::abs(baked.probe_irradiance[i].x / (kPi * expected) - 1.0) < 0.02);
+            at_probes.add(baked.probe_irradiance[i].x, kPi * expected);
+        }
+        MESSAGE("furnace rho " << rho << ": worst corner vertex " << corners.worst << ", other vertices " << rest.worst
+                               << ", probes " << at_probes.worst);
+    }
+}
