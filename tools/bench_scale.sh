@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Scale yardstick (issue 11): the solve of every scene of the scale ladder, as
-#   bench_solver SCENE --modes exact --threads 2 --runs 1
+#   bench_solver SCENE --modes aabb --threads 2 --runs 1
 # prints it, each under a timeout and a memory cap; one markdown table on stdout, a row printed
 # as each scene finishes: scene, triangles, median_s, links, rays, rss_mb, status
 #
 #   tools/bench_scale.sh [RADBAKE_BUILD_DIR] [--timeout S] [--mem-gb G] [--scenes LIST|small|all]
 #                        [--quality Q] [--threads N] [--runs N] [--work DIR] [--csv FILE]
+#                        [--mode aabb|exact|obb|rays]
 #
 # RADBAKE_BUILD_DIR (default build/) holds src/radbake and tools/bench_solver. The scenes, by name:
 #   cornell_tessellated  tools/gen_cornell_tessellated.py (2,448 quads, 4,896 triangles)
@@ -19,6 +20,7 @@
 # default the smaller of 20 GB and 3/4 of the machine's memory). A scene that runs out of time
 # or memory is a row with status `timeout` or `out of memory`, not a failure of the script; rss_mb
 # is then the peak when it was stopped, and the status gives the wall time until then (GNU time).
+# --mode: the visibility mode (default aabb, the solver's default).
 # Exit status 0 unless the script itself fails.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -28,7 +30,7 @@ if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then build="$(cd "$1" && pwd)"; shift; f
 timeout_s=600
 mem_kb=$(awk '/^MemTotal:/ {print int($2 * 3 / 4)}' /proc/meminfo)
 ((mem_kb > 20 * 1024 * 1024)) && mem_kb=$((20 * 1024 * 1024))
-scenes="all"; quality="medium"; threads=2; runs=1; work=""; csv_out=""
+scenes="all"; quality="medium"; threads=2; runs=1; work=""; csv_out=""; mode="aabb"
 while [ $# -gt 0 ]; do
   case "$1" in
     --timeout) timeout_s="$2"; shift 2 ;;
@@ -39,7 +41,8 @@ while [ $# -gt 0 ]; do
     --runs) runs="$2"; shift 2 ;;
     --work) work="$2"; shift 2 ;;
     --csv) csv_out="$2"; shift 2 ;;
-    *) sed -n '6,8p' "$0" | sed 's/^# *//' >&2; exit 2 ;;
+    --mode) mode="$2"; shift 2 ;;
+    *) sed -n '6,9p' "$0" | sed 's/^# *//' >&2; exit 2 ;;
   esac
 done
 radbake="$build/src/radbake"
@@ -85,7 +88,7 @@ add_row() {
   echo "| ${1//|/ | } |"
 }
 echo "bench_scale: $(date -u +%FT%TZ), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg) at start;" \
-     "bench_solver --modes exact --threads $threads --runs $runs --quality $quality;" \
+     "bench_solver --modes $mode --threads $threads --runs $runs --quality $quality;" \
      "timeout ${timeout_s} s, memory cap $((mem_kb / 1024)) MB per scene" >&2
 IFS=',' read -r -a names <<< "$scenes"
 echo "| scene | triangles | median_s | links | rays | rss_mb | status |"
@@ -102,12 +105,12 @@ for name in "${names[@]}"; do
   # GNU time reports the peak RSS even of a run that the timeout or the cap stops.
   /usr/bin/time -f "%e %M" -o "$work/$name.time" \
     timeout -k 10 "$timeout_s" prlimit --as=$((mem_kb * 1024)) \
-    "$bench" "$file" --modes exact --threads "$threads" --runs "$runs" --quality "$quality" > "$log" 2> "$log.err"
+    "$bench" "$file" --modes "$mode" --threads "$threads" --runs "$runs" --quality "$quality" > "$log" 2> "$log.err"
   rc=$?
   set -e
   peak_kb=$(grep -Eo '^[0-9.]+ [0-9]+$' "$work/$name.time" | tail -1 | cut -d' ' -f2 || true)
   wall=$(grep -Eo '^[0-9.]+ [0-9]+$' "$work/$name.time" | tail -1 | cut -d' ' -f1 || true)
-  row=$(awk '$1 == "exact" {print $3, $6, $9, $11}' "$log" | tail -1)
+  row=$(awk -v m="$mode" '$1 == m {print $3, $6, $9, $11}' "$log" | tail -1)
   if [ "$rc" -eq 0 ] && [ -n "$row" ]; then
     read -r median links rays rss <<< "$row"
     add_row "$name|$triangles|$median|$links|$rays|$rss|ok"

@@ -24,7 +24,7 @@ struct BakeArgs {
     std::string scene;
     std::string out_dir;  // empty: baked/<scene name>
     std::string quality_name = "medium";
-    std::string visibility_name = "exact";
+    std::string visibility_name = "aabb";
     int threads = 0;
     bool no_pin_threads = false;
     std::string probes;

@@ -38,7 +38,7 @@
 //     blocked): a mixed large link is split, so visibility is never averaged over a wall.
 //   Visibility: shafts between the nodes' boxes (a root end: its polygon), classified with
 //     the inherited candidate list (the root ends' own parts excluded, and for a flat
-//     cluster the parts in its plane); the occlusion test (exact by default) kills a link,
+//     cluster the parts in its plane); the occlusion test (with `--visibility exact`) kills a link,
 //     and its whole subtree, before it is refined. Lists longer than kCullOnlyListSize are
 //     culled by AABBs only (the test on every part of long lists was 70 % of the time).
 //   Energy: each member i sends A_i B_i (its root's area-averaged radiosity, as solve.cpp

@@ -47,7 +47,7 @@ enum class Quality { Draft, Medium, High, Reference };
 // factors averaged over it (2 x 2 Gauss points, solve.cpp): the oracle bounds power, not local error, and without
 // this closed scenes at rho = 0.99 drift by tens of percent.
 struct SolverOptions {
-    LinkVisibility visibility = LinkVisibility::Exact;
+    LinkVisibility visibility = LinkVisibility::Aabb;  // the fastest conservative mode on real scenes (docs/scale.md)
     Quality quality = Quality::Medium;
     double error_threshold = 2e-4;     // fraction of the emitted power a link may misplace (above)
     double min_element_area = 1e-4;    // relative to the scene's total area

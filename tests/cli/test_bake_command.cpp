@@ -124,7 +124,7 @@ TEST_CASE("bake writes glb, ply, probes.csv, stats.json and timings.json; probes
     for (const char* key : {"elements", "links", "shafts", "occluded_links", "rays", "iterations", "error_threshold",
                             "local_error_threshold", "min_area", "tolerance", "max_iterations"})
         CHECK_MESSAGE(stats.at(key).is_number(), key);
-    CHECK(stats.at("visibility").get<std::string>() == "exact");
+    CHECK(stats.at("visibility").get<std::string>() == "aabb");  // the default
     CHECK(stats.at("quality").get<std::string>() == "medium");
     CHECK(stats.at("elements").get<double>() >= 2);
     CHECK(stats.at("converged").is_boolean());

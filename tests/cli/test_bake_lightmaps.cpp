@@ -72,7 +72,7 @@ TEST_CASE("bake writes EXR lightmaps with provenance, TEXCOORD_1, and a manifest
     CHECK(attribute(*atlas, "radbake:scene") == "lamp.obj");
     CHECK(attribute(*atlas, "radbake:scene_sha256") == radbake::sha256File(tmp.path / "lamp.obj", diagnostics).value());
     CHECK(attribute(*atlas, "radbake:version").find("radbake ") == 0);
-    CHECK(attribute(*atlas, "radbake:options").find("quality=medium visibility=exact") == 0);
+    CHECK(attribute(*atlas, "radbake:options").find("quality=medium visibility=aabb") == 0);
     CHECK(attribute(*atlas, "radbake:options").find("texel_density=16 atlas_size=1024 padding=2 texel_tolerance=0.02") !=
           std::string::npos);
     CHECK(attribute(*atlas, "radbake:atlas") == "0 of 1");
