@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <limits>
 #include <map>
 #include <optional>
 
@@ -46,40 +45,6 @@ struct WeldedPoint {
     std::vector<Incident> groups;  // faces grouped by normal
     std::vector<DVec3> h;          // per group
 };
-
-// The irradiance the solve gave a leaf: what its own links and its ancestors' gathered (a
-// root's includes its cluster links), max channel.
-double solvedIrradiance(const Solution& solution, uint32_t leaf) {
-    DVec3 h(0.0);
-    for (uint32_t e = leaf; e != kNoElement; e = solution.elements[e].parent) h += solution.elements[e].gathered;
-    return std::max({h.x, h.y, h.z});
-}
-
-// Whether the leaves the faces of `group`'s plane have at the point were lit very unequally by
-// the solve (the dimmest below kUnequalLeaves of the brightest): a shadow boundary or a contact
-// line passes through the point, and each leaf's links carry visibility averaged over a leaf
-// mostly on one side of it. The reconstruction gathers through one leaf's links, so there it
-// read half the light 2 mm from a block's foot through the tile mostly under the block (the
-// tessellated Cornell box: 0.24 against 0.52 W/m^2), or twice it under a lamp through a tile
-// that reaches past the lamp's shadow; the exhaustive gather reads both right. Such points
-// take it: 35 of the box's 2,857 vertices (their RMS error against a path-traced reference
-// 7.3 -> 4.2 %), 191 of house.wrl's 9,607. The links through every leaf there, their mean,
-// median or maximum, gave 5.6 to 9.7 %.
-constexpr double kUnequalLeaves = 0.5;
-
-bool unequalLeaves(const Solution& solution, const LinkReconstruction& links, const WeldedPoint& point,
-                   const Incident& group) {
-    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-    for (const Incident& f : point.faces) {
-        if (!(glm::dot(f.normal, group.normal) > 1.0 - kSameNormal)) continue;
-        const uint32_t leaf = links.leafAt(f.mesh, f.triangle, point.p);
-        if (leaf == kNoElement) continue;
-        const double h = solvedIrradiance(solution, leaf);
-        lo = std::min(lo, h);
-        hi = std::max(hi, h);
-    }
-    return hi > 0.0 && lo < kUnequalLeaves * hi;
-}
 
 }  // namespace
 
@@ -126,9 +91,8 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRu
             WeldedPoint& point = points[k];
             point.groups = groupByNormal(point.faces);
             for (const Incident& g : point.groups)
-                point.h.push_back(links && !unequalLeaves(solution, *links, point, g)
-                                      ? links->irradiance(g.mesh, g.triangle, point.p, g.normal)
-                                      : probeIrradiance(solution, point.p, g.normal, g.mesh));
+                point.h.push_back(links ? links->irradiance(g.mesh, g.triangle, point.p, g.normal)
+                                        : probeIrradiance(solution, point.p, g.normal, g.mesh));
         }
         if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
     });
