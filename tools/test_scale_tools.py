@@ -2,7 +2,7 @@
 """ctest `scale_tools`: the scale and accuracy yardsticks' generators and scorer hold what they
 promise (a few seconds in all).
 
-    python3 tools/test_scale_tools.py RADBAKE VERTEX_PROBES REFERENCE_MC
+    python3 tools/test_scale_tools.py RADBAKE VERTEX_PROBES REFERENCE_MC LIGHTMAP_AT_VERTICES
 
 - gen_cornell_tessellated.py: radbake reads 17 meshes, 2,448 polygons, 4,896 triangles, 16
   emitting polygons, bounds [0,0,0]..[1,1,1]; vertex_probes finds 2,857 vertices (no importer
@@ -12,7 +12,11 @@ promise (a few seconds in all).
   bytes; a different seed gives others; in a room without boxes the floor's irradiance under
   the lamp (reference_mc) is well above the lamp's direct light alone, which it would not be if
   walls faced outward (one-sided surfaces: a wall seen from behind is black);
-- vertex_error.py: exact figures on a literal bake and reference.
+- vertex_error.py: exact figures on a literal bake and reference;
+- lightmap_at_vertices: on a room lit by its ceiling, baked with lightmaps, the lightmap looked
+  up at every vertex gives the bake's own vertex value (the .ply) within 2 % inside the walls
+  (a lookup half a texel off, or with v up, does not), its rows are the probe file's positions,
+  and a bake without lightmaps is refused naming a mesh.
 Python standard library only.
 """
 import json
@@ -150,14 +154,81 @@ def test_vertex_error():
         pass
 
 
+def write_room(path, n=4):
+    """A closed 1 m room facing inward, its ceiling emitting (so the light inside is smooth),
+    every wall its own object cut into n x n quads: vertices inside the walls' charts."""
+    walls = [  # (name, origin, u, v): the front (u x v) faces into the room
+        ("floor", (0, 0, 0), (0, 0, 1), (1, 0, 0)), ("ceiling", (0, 1, 0), (1, 0, 0), (0, 0, 1)),
+        ("back", (0, 0, 0), (1, 0, 0), (0, 1, 0)), ("front", (0, 0, 1), (0, 1, 0), (1, 0, 0)),
+        ("left", (0, 0, 0), (0, 1, 0), (0, 0, 1)), ("right", (1, 0, 0), (0, 0, 1), (0, 1, 0))]
+    mtl = os.path.splitext(path)[0] + ".mtl"
+    with open(mtl, "w") as f:
+        f.write("newmtl wall\nKd 0.6 0.5 0.4\nKe 0 0 0\n\nnewmtl lamp\nKd 0.3 0.3 0.3\nKe 1 1 1\n")
+    lines, base = ["mtllib " + os.path.basename(mtl)], 1
+    for name, o, u, v in walls:
+        lines += ["o " + name, "usemtl " + ("lamp" if name == "ceiling" else "wall")]
+        for j in range(n + 1):
+            for i in range(n + 1):
+                lines.append("v %g %g %g" % tuple(o[k] + u[k] * i / n + v[k] * j / n for k in range(3)))
+        for j in range(n):
+            for i in range(n):
+                a = base + j * (n + 1) + i
+                lines.append("f %d %d %d %d" % (a, a + 1, a + n + 2, a + n + 1))
+        base += (n + 1) ** 2
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def test_lightmap_at_vertices(radbake, vertex_probes, lightmap_at_vertices, tmp):
+    room = os.path.join(tmp, "room.obj")
+    write_room(room)
+    probes_path, bake, flat = (os.path.join(tmp, n) for n in ("room.probes", "room_bake", "room_flat"))
+    run([vertex_probes, room, probes_path])
+    # Every texel evaluated (no interpolation), 16 per metre: the correct lookup is within 1 %
+    # of the vertex bake inside the walls, one half a texel off in u alone 3.7 %, in u and v 6 %.
+    run([radbake, "bake", room, "--quality", "draft", "--texel-density", "16", "--texel-tolerance", "0",
+         "--threads", "2", "--quiet", "-o", bake])
+    out = os.path.join(tmp, "room_lookup.csv")
+    run([lightmap_at_vertices, bake, probes_path, out])
+    rows = vertex_error.read_csv_rows(out)
+    probes = read_probes(probes_path)
+    check(len(rows) == len(probes) == 6 * 25, "lightmap: %d rows for %d probes" % (len(rows), len(probes)))
+    check(all([float(r[k]) for k in ("x", "y", "z", "nx", "ny", "nz")] == p for r, p in zip(rows, probes)),
+          "lightmap: the rows are not the probe file's positions and normals")
+    vertex = vertex_error.vertex_rows(bake, rows)  # pi x the .ply value of the same vertex
+    inside, worst = 0, (0.0, None)
+    for r, v in zip(rows, vertex):
+        p = [float(r[k]) for k in ("x", "y", "z")]
+        if all(0.1 < c < 0.9 or abs(float(r[n])) == 1.0 for c, n in zip(p, ("nx", "ny", "nz"))):
+            inside += 1  # not on the border of its wall
+            e = abs(vertex_error.grey(r) - vertex_error.grey(v)) / vertex_error.grey(v)
+            worst = max(worst, (e, p))
+    print("lightmap: %d vertices inside the walls, worst lookup against the vertex bake %.2f %% at %s" % (
+        inside, 100 * worst[0], worst[1]))
+    check(inside == 6 * 9, "lightmap: %d vertices inside the walls, want 54" % inside)
+    check(worst[0] < 0.02, "lightmap: lookup %.2f %% from the vertex bake at %s" % (100 * worst[0], worst[1]))
+    # A bake without lightmaps: refused, naming the mesh.
+    run([radbake, "bake", room, "--quality", "draft", "--no-lightmaps", "--quiet", "-o", flat])
+    result = subprocess.run([lightmap_at_vertices, flat, probes_path, out], capture_output=True, text=True)
+    check(result.returncode == 1 and "has no lightmap chart" in result.stderr and "mesh '" in result.stderr,
+          "lightmap: a bake without lightmaps: exit %d, %s" % (result.returncode, result.stderr.strip()))
+    bad = os.path.join(tmp, "bad.probes")
+    with open(bad, "w") as f:
+        f.write("0.5 0.5\n")
+    result = subprocess.run([lightmap_at_vertices, bake, bad, out], capture_output=True, text=True)
+    check(result.returncode == 1 and "bad.probes:1:" in result.stderr,
+          "lightmap: a bad probe file: exit %d, %s" % (result.returncode, result.stderr.strip()))
+
+
 def main(argv):
-    if len(argv) != 4:
-        sys.stderr.write("usage: test_scale_tools.py RADBAKE VERTEX_PROBES REFERENCE_MC\n")
+    if len(argv) != 5:
+        sys.stderr.write("usage: test_scale_tools.py RADBAKE VERTEX_PROBES REFERENCE_MC LIGHTMAP_AT_VERTICES\n")
         return 2
-    radbake, vertex_probes, reference_mc = argv[1:]
+    radbake, vertex_probes, reference_mc, lightmap_at_vertices = argv[1:]
     with tempfile.TemporaryDirectory() as tmp:
         test_cornell(radbake, vertex_probes, tmp)
         test_building(radbake, reference_mc, tmp)
+        test_lightmap_at_vertices(radbake, vertex_probes, lightmap_at_vertices, tmp)
     test_vertex_error()
     print("%d failure(s)" % len(failures))
     return 1 if failures else 0

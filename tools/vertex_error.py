@@ -106,11 +106,18 @@ def read_ply_vertices(path):
     end = data.index(b"end_header\n") + len(b"end_header\n")
     header = data[:end].decode("ascii").splitlines()
     count = next(int(line.split()[2]) for line in header if line.startswith("element vertex"))
-    names = [line.split()[2] for line in header if line.startswith("property float")]
+    start = next(i for i, line in enumerate(header) if line.startswith("element vertex")) + 1
+    properties = []  # (type, name) of the vertex element's properties, up to the next element
+    for line in header[start:]:
+        if not line.startswith("property"):
+            break
+        properties.append((line.split()[1], line.split()[-1]))
     wanted = ("x", "y", "z", "nx", "ny", "nz", "red", "green", "blue")
-    if len(names) < 9 or tuple(names[:9]) != wanted:
-        raise ValueError("%s: expected vertex properties %s, found %s" % (path, wanted, names))
-    stride = 4 * len(names)
+    if tuple(properties[:9]) != tuple(("float", n) for n in wanted):
+        raise ValueError("%s: expected float vertex properties %s, found %s" % (path, wanted, properties))
+    # A lightmapped bake adds u1 v1 and a uchar atlas index after them.
+    sizes = {"char": 1, "uchar": 1, "short": 2, "ushort": 2, "int": 4, "uint": 4, "float": 4, "double": 8}
+    stride = sum(sizes[t] for t, _ in properties)
     return [struct.unpack_from("<9f", data, end + i * stride) for i in range(count)]
 
 
