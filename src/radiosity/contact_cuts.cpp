@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 #include "geometry/polygon.h"
@@ -100,6 +101,10 @@ constexpr double kMinRise = 1e-3;
 // (tools/bench_reconstruct): 1.0 % at 1e-6, 1.6 % at 0.01, 2.1 % at 0.02; the tessellated
 // Cornell box's vertices against their path-traced reference 2.60, 2.77 and 2.97 % RMS.
 constexpr double kMinPieceFraction = 0.01;
+
+// A light source's plane cuts the polygons within this many times the source's box diagonal
+// of it (cutAtSourcePlanes).
+constexpr double kSourcePlaneReach = 2.0;
 
 // Where convex polygon `q` meets the plane `p` (within tolerance): the segment from a to b.
 // False when it does not, only at a point, or q rises less than `min_rise` from the plane.
@@ -235,6 +240,85 @@ size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_
             std::swap(pieces, next);
         }
         for (auto& piece : pieces) out.push_back({p.mesh, p.polygon, std::move(piece)});
+    }
+    polygons = std::move(out);
+    return cuts_made;
+}
+
+}  // namespace radbake
+
+namespace radbake {
+
+size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<bool>& emits, double tolerance,
+                         size_t max_vertices) {
+    const size_t n = polygons.size();
+    std::vector<Aabb> boxes(n);
+    for (size_t i = 0; i < n; ++i)
+        for (const DVec3& p : polygons[i].loop) boxes[i].add(p);
+    const BoxTree tree(boxes);
+    // A source's reach is measured on its mesh's emitting polygons together (a lamp modelled as
+    // 4 x 4 tiles reaches as far as one).
+    std::map<uint32_t, Aabb> source_boxes;
+    for (size_t s = 0; s < n; ++s)
+        if (emits[s]) {
+            Aabb& box = source_boxes[polygons[s].mesh];
+            box.add(boxes[s].min);
+            box.add(boxes[s].max);
+        }
+    // Per receiver, the source planes that cross it, in source order, each once.
+    std::vector<std::vector<Plane>> crossing(n);
+    for (size_t s = 0; s < n; ++s) {
+        if (!emits[s]) continue;
+        const Plane plane = planeFromPolygon(polygons[s].loop);
+        const Aabb& source_box = source_boxes[polygons[s].mesh];
+        Aabb reach = source_box;
+        const DVec3 grow(kSourcePlaneReach * glm::length(source_box.extent()));
+        reach.min -= grow;
+        reach.max += grow;
+        tree.overlapping(reach, [&](uint32_t j) {
+            if (emits[j] || glm::length(glm::cross(plane.normal, planeFromPolygon(polygons[j].loop).normal)) <= 1e-6)
+                return;  // a source itself, or parallel to the plane
+            double lo = 0.0, hi = 0.0;
+            for (const DVec3& v : polygons[j].loop) {
+                lo = std::min(lo, plane.eval(v));
+                hi = std::max(hi, plane.eval(v));
+            }
+            if (!(lo < -tolerance && hi > tolerance)) return;
+            for (const Plane& q : crossing[j])
+                if (glm::dot(q.normal, plane.normal) > 1.0 - 1e-9 && std::abs(q.offset - plane.offset) <= tolerance) return;
+            crossing[j].push_back(plane);
+        });
+    }
+    std::vector<RootPolygon> out;
+    out.reserve(n);
+    size_t cuts_made = 0;
+    std::vector<std::vector<DVec3>> pieces, next;
+    std::vector<DVec3> front, back;
+    for (size_t i = 0; i < n; ++i) {
+        if (crossing[i].empty()) {
+            out.push_back(std::move(polygons[i]));
+            continue;
+        }
+        const double min_area = kMinPieceFraction * polygonArea(polygons[i].loop);
+        pieces.assign(1, polygons[i].loop);
+        for (const Plane& plane : crossing[i]) {
+            next.clear();
+            for (auto& piece : pieces) {
+                splitByPlane(piece, plane, front, back);
+                front = removeCollinear(front, 1e-3 * tolerance);
+                back = removeCollinear(back, 1e-3 * tolerance);
+                if (front.size() >= 3 && back.size() >= 3 && front.size() <= max_vertices &&
+                    back.size() <= max_vertices && polygonArea(front) > min_area && polygonArea(back) > min_area) {
+                    next.push_back(front);
+                    next.push_back(back);
+                    ++cuts_made;
+                } else {
+                    next.push_back(std::move(piece));
+                }
+            }
+            std::swap(pieces, next);
+        }
+        for (auto& piece : pieces) out.push_back({polygons[i].mesh, polygons[i].polygon, std::move(piece)});
     }
     polygons = std::move(out);
     return cuts_made;

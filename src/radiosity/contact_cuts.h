@@ -30,4 +30,14 @@ struct RootPolygon {
 // Deterministic; O(n log n) plus the touching pairs.
 size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_t max_vertices);
 
+// Replaces each polygon that the plane of a light source near it crosses (emits[i]: polygon i
+// is such a source; near: within twice the diagonal of the box of its mesh's sources) by its
+// pieces on either side of that plane, with the same 1 % floor. A one-sided source sends nothing behind its plane, so direct
+// light falls to zero at the plane and stays zero past it: a wall's top strip above a ceiling
+// lamp is dark, and a tile spanning the plane read the mean of the two sides, which is what the
+// room's corners saw there (+30 % at the tessellated Cornell box's ceiling corners). Sources
+// are not cut. `polygons` and `emits` are indexed alike (emits is not updated). Returns the cuts.
+size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<bool>& emits, double tolerance,
+                         size_t max_vertices);
+
 }  // namespace radbake
