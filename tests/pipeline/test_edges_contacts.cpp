@@ -69,12 +69,15 @@ Probe probeAt(DVec3 position, DVec3 normal) {
 }
 
 struct ErrorTally {
-    double worst = 0.0;
+    double worst = 0.0, sum_squares = 0.0;
     size_t count = 0;
     void add(double value, double expected) {
-        worst = std::max(worst, std::abs(value / expected - 1.0));
+        const double e = value / expected - 1.0;
+        worst = std::max(worst, std::abs(e));
+        sum_squares += e * e;
         ++count;
     }
+    double rms() const { return count ? std::sqrt(sum_squares / double(count)) : 0.0; }
 };
 
 }  // namespace
@@ -222,4 +225,42 @@ TEST_CASE("a furnace's edges and corners: H = pi L / (1 - rho) at every vertex a
         MESSAGE("furnace rho " << rho << ": worst corner vertex " << corners.worst << ", other vertices " << rest.worst
                                << ", probes " << at_probes.worst);
     }
+}
+
+// The tessellated Cornell box's room (walls 16 x 16 tiles, its 4 x 4 lamp) with its two blocks
+// (VRML Boxes) standing on the floor, whose feet cross the floor's tiles: the floor's vertices
+// against the exhaustive gather at the same points. Read through the links of the first tile
+// around each, they were at 5.0 % rms and 57 % worst; where the tiles' leaves were lit very
+// unequally they take the mean through each (vertex_bake.cpp): 3.4 % and 25 %. Not yet the 2 %
+// the reconstruction holds inside faces (issue 13's note, session 7).
+TEST_CASE("floor vertices where blocks' feet cross its tiles read near the exhaustive gather") {
+    TempDir dir;
+    const std::string white = "diffuseColor 0.75 0.75 0.75";
+    const std::string scene =
+        "#VRML V2.0 utf8\n" + gridShape(white, {0, 0, 1}, {1, 0, 0}, {0, 0, -1}, 16) +  // floor, +y
+        gridShape(white, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, 16) +                           // ceiling, -y
+        gridShape(white, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 16) +                           // z = 0, +z
+        gridShape(white, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, 16) +                           // z = 1, -z
+        gridShape("diffuseColor 0.75 0.15 0.15", {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 16) +   // x = 0, +x
+        gridShape("diffuseColor 0.15 0.75 0.15", {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 16) +   // x = 1, -x
+        gridShape("diffuseColor 0 0 0 emissiveColor 10 10 10", {0.4, 0.99, 0.4}, {0.2, 0, 0}, {0, 0, 0.2}, 4) +
+        "Transform { translation 0.337 0.3 0.372 rotation 0 1 0 0.296706 children Shape {\n"
+        " appearance Appearance { material Material { " + white + " } } geometry Box { size 0.3 0.6 0.3 } } }\n"
+        "Transform { translation 0.666 0.15 0.698 rotation 0 1 0 -0.296706 children Shape {\n"
+        " appearance Appearance { material Material { " + white + " } } geometry Box { size 0.3 0.3 0.3 } } }\n";
+    const Bake baked = bakeFile(testfs::writeText(dir, "tessellated_box.wrl", scene));
+    const Mesh& floor = baked.scene->meshes[0];
+    const std::vector<Vec3>& values = baked.vertices.values[0];
+    ErrorTally vertices;
+    for (size_t v = 0; v < floor.positions.size(); ++v) {
+        const DVec3 p(floor.positions[v]);
+        const double expected = probeIrradiance(*baked.solution, p, {0, 1, 0}, 0).x / kPi;
+        if (!(expected > 0.01)) continue;  // under a block
+        vertices.add(values[v].x, expected);
+    }
+    CHECK(vertices.count > 200);
+    CHECK(vertices.rms() < 0.04);
+    CHECK(vertices.worst < 0.35);
+    MESSAGE("floor vertices against the exhaustive gather: worst " << vertices.worst << ", rms " << vertices.rms()
+                                                                   << " of " << vertices.count);
 }
