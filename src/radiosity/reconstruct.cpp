@@ -115,7 +115,9 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
         const double f = piecePointFormFactor(g.point, g.normal, polygonOf(s, source).vertices, source.normal);
         if (g.counters) ++g.counters->form_factors;
         if (!(f > 0.0)) return;
-        const DVec3 fallback = (kernel > 0.0 ? kernel : f * visibility) * source.radiosity;
+        // A cluster pair's kernel is its one ray's visibility times the form factor averaged
+        // over the receiver: at the point, that visibility times the point's own form factor.
+        const DVec3 fallback = (kernel > 0.0 ? f : f * visibility) * source.radiosity;
         pending.push_back({source_index, f, f * maxChannel(source.radiosity), fallback,
                            kernel == 0.0 && visibility > 0.0 && visibility < 1.0});
     };
