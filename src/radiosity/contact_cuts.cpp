@@ -178,6 +178,24 @@ void splitByPlane(std::span<const DVec3> loop, const Plane& plane, std::vector<D
     }
 }
 
+// Splits `piece` by `plane` into next (both sides, when each is a polygon of at most
+// max_vertices corners and more than min_area) or keeps it whole; true when it was split.
+bool splitPiece(std::vector<DVec3>& piece, const Plane& plane, double min_area, double tolerance,
+                size_t max_vertices, std::vector<std::vector<DVec3>>& next) {
+    std::vector<DVec3> front, back;
+    splitByPlane(piece, plane, front, back);
+    front = removeCollinear(front, 1e-3 * tolerance);
+    back = removeCollinear(back, 1e-3 * tolerance);
+    if (front.size() >= 3 && back.size() >= 3 && front.size() <= max_vertices && back.size() <= max_vertices &&
+        polygonArea(front) > min_area && polygonArea(back) > min_area) {
+        next.push_back(std::move(front));
+        next.push_back(std::move(back));
+        return true;
+    }
+    next.push_back(std::move(piece));
+    return false;
+}
+
 }  // namespace
 
 size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_t max_vertices) {
@@ -197,7 +215,6 @@ size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_
     std::vector<uint32_t> others;
     std::vector<Cut> cuts;
     std::vector<std::vector<DVec3>> pieces, next;
-    std::vector<DVec3> front, back;
     for (size_t i = 0; i < n; ++i) {
         const RootPolygon& p = polygons[i];
         const Plane& plane = planes[i];
@@ -225,22 +242,10 @@ size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_
         for (const Cut& cut : cuts) {
             next.clear();
             for (auto& piece : pieces) {
-                bool split = false;
-                if (lengthInside(piece, plane.normal, cut.a, cut.b, tolerance) > tolerance) {
-                    splitByPlane(piece, cut.plane, front, back);
-                    front = removeCollinear(front, 1e-3 * tolerance);
-                    back = removeCollinear(back, 1e-3 * tolerance);
-                    split = front.size() >= 3 && back.size() >= 3 && front.size() <= max_vertices &&
-                            back.size() <= max_vertices && polygonArea(front) > min_area &&
-                            polygonArea(back) > min_area;
-                }
-                if (split) {
-                    next.push_back(front);
-                    next.push_back(back);
-                    ++cuts_made;
-                } else {
+                if (lengthInside(piece, plane.normal, cut.a, cut.b, tolerance) > tolerance)
+                    cuts_made += splitPiece(piece, cut.plane, min_area, tolerance, max_vertices, next) ? 1 : 0;
+                else
                     next.push_back(std::move(piece));
-                }
             }
             std::swap(pieces, next);
         }
@@ -249,10 +254,6 @@ size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_
     polygons = std::move(out);
     return cuts_made;
 }
-
-}  // namespace radbake
-
-namespace radbake {
 
 size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<bool>& emits, double tolerance,
                          size_t max_vertices) {
@@ -298,7 +299,6 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
     out.reserve(n);
     size_t cuts_made = 0;
     std::vector<std::vector<DVec3>> pieces, next;
-    std::vector<DVec3> front, back;
     for (size_t i = 0; i < n; ++i) {
         if (crossing[i].empty()) {
             out.push_back(std::move(polygons[i]));
@@ -308,19 +308,8 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
         pieces.assign(1, polygons[i].loop);
         for (const Plane& plane : crossing[i]) {
             next.clear();
-            for (auto& piece : pieces) {
-                splitByPlane(piece, plane, front, back);
-                front = removeCollinear(front, 1e-3 * tolerance);
-                back = removeCollinear(back, 1e-3 * tolerance);
-                if (front.size() >= 3 && back.size() >= 3 && front.size() <= max_vertices &&
-                    back.size() <= max_vertices && polygonArea(front) > min_area && polygonArea(back) > min_area) {
-                    next.push_back(front);
-                    next.push_back(back);
-                    ++cuts_made;
-                } else {
-                    next.push_back(std::move(piece));
-                }
-            }
+            for (auto& piece : pieces)
+                cuts_made += splitPiece(piece, plane, min_area, tolerance, max_vertices, next) ? 1 : 0;
             std::swap(pieces, next);
         }
         for (auto& piece : pieces) out.push_back({polygons[i].mesh, polygons[i].polygon, std::move(piece)});
