@@ -107,8 +107,8 @@ constexpr double kMinRise = 1e-3;
 // for a session that can look at both.
 constexpr double kMinPieceFraction = 0.01;
 
-// A light source's plane cuts the polygons within this many times the source's box diagonal
-// of it (cutAtSourcePlanes).
+// A light source's plane cuts the polygons within this many times the diagonal of the box of
+// its mesh's sources (cutAtSourcePlanes).
 constexpr double kSourcePlaneReach = 2.0;
 
 // Where convex polygon `q` meets the plane `p` (within tolerance): the segment from a to b.
@@ -259,8 +259,11 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
                          size_t max_vertices) {
     const size_t n = polygons.size();
     std::vector<Aabb> boxes(n);
-    for (size_t i = 0; i < n; ++i)
+    std::vector<Plane> planes(n);
+    for (size_t i = 0; i < n; ++i) {
         for (const DVec3& p : polygons[i].loop) boxes[i].add(p);
+        planes[i] = planeFromPolygon(polygons[i].loop);
+    }
     const BoxTree tree(boxes);
     // A source's reach is measured on its mesh's emitting polygons together (a lamp modelled as
     // 4 x 4 tiles reaches as far as one).
@@ -275,14 +278,14 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
     std::vector<std::vector<Plane>> crossing(n);
     for (size_t s = 0; s < n; ++s) {
         if (!emits[s]) continue;
-        const Plane plane = planeFromPolygon(polygons[s].loop);
+        const Plane& plane = planes[s];
         const Aabb& source_box = source_boxes[polygons[s].mesh];
         Aabb reach = source_box;
         const DVec3 grow(kSourcePlaneReach * glm::length(source_box.extent()));
         reach.min -= grow;
         reach.max += grow;
         tree.overlapping(reach, [&](uint32_t j) {
-            if (emits[j] || glm::length(glm::cross(plane.normal, planeFromPolygon(polygons[j].loop).normal)) <= 1e-6)
+            if (emits[j] || glm::length(glm::cross(plane.normal, planes[j].normal)) <= 1e-6)
                 return;  // a source itself, or parallel to the plane
             double lo = 0.0, hi = 0.0;
             for (const DVec3& v : polygons[j].loop) {

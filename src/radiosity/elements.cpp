@@ -8,11 +8,11 @@
 #include "radiosity/contact_cuts.h"
 
 namespace radbake {
+namespace {
 
 // A light source's plane cuts the polygons near it when its mesh sends at least this share of
 // the scene's emitted power (contact_cuts.h, cutAtSourcePlanes).
 constexpr double kSourcePlaneShare = 0.05;
-namespace {
 
 // Roots with more corners than this are split into their triangles instead (keeps the
 // fixed-size buffers of the form-factor code small).

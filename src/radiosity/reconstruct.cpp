@@ -107,19 +107,18 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
                                      DVec3& separable) const {
     const Solution& s = s_;
     // A source whose visibility from the point is not known: its unoccluded light f B is
-    // what decides whether rays are worth casting. Without them it brings f V B (V: its
-    // link's visibility), or for a cluster pair kernel B (the pair's light over the receiver).
-    const auto defer = [&](uint32_t source_index, double visibility, double kernel) {
+    // what decides whether rays are worth casting. Without them it brings f V B, V its link's
+    // visibility; a cluster pair's V is 1 (it carries light only where its one ray was open,
+    // and its kernel, that ray times the form factor averaged over the receiver, is read at
+    // the point as the point's own form factor).
+    const auto defer = [&](uint32_t source_index, double visibility) {
         const Element& source = s.elements[source_index];
         if (!(maxChannel(source.radiosity) > 0.0)) return;
         const double f = piecePointFormFactor(g.point, g.normal, polygonOf(s, source).vertices, source.normal);
         if (g.counters) ++g.counters->form_factors;
         if (!(f > 0.0)) return;
-        // A cluster pair's kernel is its one ray's visibility times the form factor averaged
-        // over the receiver: at the point, that visibility times the point's own form factor.
-        const DVec3 fallback = (kernel > 0.0 ? f : f * visibility) * source.radiosity;
-        pending.push_back({source_index, f, f * maxChannel(source.radiosity), fallback,
-                           kernel == 0.0 && visibility > 0.0 && visibility < 1.0});
+        pending.push_back({source_index, f, f * maxChannel(source.radiosity), f * visibility * source.radiosity,
+                           visibility > 0.0 && visibility < 1.0});
     };
     for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
         for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
@@ -132,7 +131,7 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
                 g.use_rays = false;
                 g.visit(link.source);
             } else {
-                defer(link.source, link.visibility, 0.0);
+                defer(link.source, link.visibility);
             }
         }
     if (cluster_begin_.empty()) return;
@@ -157,14 +156,13 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
     for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent) visit(c | kClusterNode);
     // Pairwise (near): each member pair that carries light (some of its rays open), read
     // like an element link from the source member: no rays when the link's shaft proved it
-    // visible (it then keeps no candidate list); without rays, the pair's kernel (its light
-    // averaged over the receiver, visibility included).
-    forClusterPairs(root, [&](uint32_t member, double kernel, const ClusterLink& link) {
+    // visible (it then keeps no candidate list); without rays, as wholly visible (defer).
+    forClusterPairs(root, [&](uint32_t member, double, const ClusterLink& link) {
         if (!s.rays || link.candidates == kNoList) {
             g.use_rays = false;
             g.visit(member);
         } else {
-            defer(member, 0.0, kernel);
+            defer(member, 1.0);
         }
     });
 }
