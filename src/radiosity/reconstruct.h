@@ -10,9 +10,10 @@
 //     may bring more than a small share of the point's light, the link's own visibility
 //     elsewhere;
 //   - cluster links likewise: a pairwise link's member pairs gathered like element links
-//     (rays unless its shaft proved it visible), a separable link
-//     (far, wholly visible) by the solve's own product form, its receiver cosine taken at
-//     the point;
+//     (rays unless its shaft proved it visible; a pair whose one ray was blocked as a link
+//     whose rays were all blocked), a separable link (far, wholly visible) member by member
+//     without rays when its source is small, else by the solve's own product form, its
+//     receiver cosine taken at the point;
 //   - punctual lights' direct light by rays, as probeIrradiance.
 // probeIrradiance (the exhaustive gather from every root, rays for every element) stays the
 // reference: --texel-tolerance 0 and --quality reference use it.
@@ -63,7 +64,7 @@ private:
         bool partial;     // its link's rays disagreed (0 < visibility < 1)
     };
     // f(source member, kernel, link) for every member pair of a pairwise cluster link that
-    // reaches `root` and carries light, in a fixed order.
+    // reaches `root`, in a fixed order; kernel 0: the pair faces away or its ray was blocked.
     template <class F>
     void forClusterPairs(uint32_t root, F&& f) const;
     void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
