@@ -7,6 +7,7 @@
 
 #include "radiosity/cluster.h"
 #include "radiosity/cluster_nodes.h"
+#include "radiosity/elements.h"
 #include "radiosity/gather.h"
 #include "radiosity/punctual_lights.h"
 
@@ -43,6 +44,17 @@ constexpr double kLinkVisibilityRatio = 0.05;
 // vertices 2.51 % RMS, 2.40 % with this; 2.37 % with `--no-clustering`), for 10 % more form
 // factors on house.wrl's vertices and no measurable time.
 constexpr uint32_t kExactSeparableMembers = 64;
+// Where a point touches a face that meets its own at a concave edge or corner, the gather
+// takes that face's leaf beside it at its mean radiosity; but a concave corner darkens toward
+// its edge, and from a point on the edge the form factor is concentrated there (the
+// tessellated Cornell box's room corners read +9 %, its wall-ceiling edges +3 %). The
+// correction models that leaf's radiosity as linear in the distance h from the line the two
+// planes share, equal on the line to what that face gets at this very point (E + rho H, read
+// through its own links) and keeping the leaf's mean, and adds what that changes in the
+// leaf's light: sum over pieces f (h / h_mean - 1) (B_mean - B_line). Exact (zero) where the
+// radiosity is uniform. Pieces: the leaf split three times (64 for a quad).
+constexpr int kEdgeCorrectionSplits = 3;
+constexpr double kEdgeCorrectionShare = 0.01;
 constexpr int kLinkVisibilitySplits = 1;
 
 // The polygon among `candidates` that holds p: the first within a rounding tolerance of it
@@ -207,7 +219,11 @@ uint32_t LinkReconstruction::leafAt(uint32_t mesh, uint32_t triangle, const DVec
     if (lo == hi) return kNoElement;
     std::vector<uint32_t> candidates;
     for (auto it = lo; it != hi; ++it) candidates.push_back(it->root);
-    uint32_t e = nearest(s, candidates, p_world);
+    return leafBelow(nearest(s, candidates, p_world), p_world);
+}
+
+uint32_t LinkReconstruction::leafBelow(uint32_t e, const DVec3& p_world) const {
+    const Solution& s = s_;
     while (!s.elements[e].isLeaf()) {
         const Element& element = s.elements[e];
         std::array<uint32_t, 8> children{};
@@ -227,6 +243,92 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     if (leaf == kNoElement || !(glm::dot(s.elements[leaf].normal, normal) > 0.5))
         return counters ? probeIrradianceCounted(s, p_world, normal, *counters, mesh)
                         : probeIrradiance(s, p_world, normal, mesh);
+    DVec3 h = evaluateLeaf(leaf, p_world, normal, counters, true);
+    if (s.scene && !s.scene->lights.empty())
+        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
+    return h;
+}
+
+DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, const DVec3& normal, const DVec3& h,
+                                         std::span<const uint32_t> touched, ProbeCounters* counters) const {
+    const Solution& s = s_;
+    const double lift = gather::kLift * s.scene_extent;
+    const Element& own = s.elements[leaf];
+    std::vector<std::pair<uint32_t, size_t>> faces;  // touched concave neighbour root, its leaves' count
+    std::vector<std::pair<double, DVec3>> weights;   // per touching leaf: weight, B_mean
+    double potential = 0.0;
+    for (const uint32_t r : touched) {
+        if (r == own.root) continue;
+        const Element& other = s.elements[r];
+        // Concave (each in front of the other), not coplanar, and touching the point.
+        if (!(glm::dot(normal, other.centroid - p_world) > 0.0) || !(glm::dot(other.normal, own.centroid - p_world) > 0.0))
+            continue;
+        const DVec3 axis = glm::cross(normal, other.normal);
+        if (!(glm::length(axis) > 1e-6)) continue;
+        const PolygonView other_polygon = polygonOf(s, other);
+        if (!(std::abs(glm::dot(other.normal, p_world - other_polygon.vertices[0])) < lift) ||
+            !(pointPolygonDistance(p_world, other_polygon) < lift))
+            continue;
+        const DVec3 line = glm::normalize(axis);
+        const DVec3 origin = p_world + lift * (normal + other.normal);  // off both planes
+        // Every leaf of that face the point touches (on the border between two, both): one
+        // chosen would make the correction jump with the rounding of the point.
+        const size_t before = weights.size();
+        std::vector<uint32_t> stack{r};
+        while (!stack.empty()) {
+            const uint32_t k = stack.back();
+            stack.pop_back();
+            const Element& e = s.elements[k];
+            if (!(pointPolygonDistance(p_world, polygonOf(s, e)) < lift)) continue;
+            if (!e.isLeaf()) {
+                for (uint32_t c = e.child_count; c-- > 0;) stack.push_back(e.first_child + c);
+                continue;
+            }
+            const PolygonView poly = polygonOf(s, e);
+            std::vector<std::vector<DVec3>> pieces{std::vector<DVec3>(poly.vertices.begin(), poly.vertices.end())};
+            for (int level = 0; level < kEdgeCorrectionSplits; ++level) {
+                std::vector<std::vector<DVec3>> next;
+                for (const auto& piece : pieces)
+                    for (auto& child : splitPolygon(piece)) next.push_back(std::move(child));
+                pieces = std::move(next);
+            }
+            double area = 0.0, area_h = 0.0, weight = 0.0;
+            std::vector<double> height(pieces.size()), f(pieces.size());
+            for (size_t i = 0; i < pieces.size(); ++i) {
+                Element piece;
+                setElementGeometry(piece, pieces[i]);
+                const DVec3 v = piece.centroid - p_world;
+                height[i] = glm::length(v - glm::dot(v, line) * line);
+                area += piece.area;
+                area_h += piece.area * height[i];
+                f[i] = piecePointFormFactor(origin, normal, pieces[i], e.normal);
+                if (counters) ++counters->form_factors;
+            }
+            if (!(area_h > 0.0)) continue;
+            for (size_t i = 0; i < pieces.size(); ++i) weight += f[i] * (height[i] * area / area_h - 1.0);
+            weights.push_back({weight, e.radiosity});
+            potential += std::abs(weight) * maxChannel(e.radiosity);
+        }
+        if (weights.size() > before) faces.push_back({r, weights.size() - before});
+    }
+    // What each face gets at this very point (uncorrected) is a second reconstruction there:
+    // only where the correction could move the point's light by kEdgeCorrectionShare
+    // (B_line lies between 0 and about B_mean).
+    if (!(potential > kEdgeCorrectionShare * maxChannel(h))) return DVec3(0.0);
+    DVec3 correction(0.0);
+    size_t w = 0;
+    for (const auto& [r, count] : faces) {
+        const uint32_t beside = leafBelow(r, p_world);
+        const Element& b = s.elements[beside];
+        const DVec3 b_line = b.emission + b.reflectance * evaluateLeaf(beside, p_world, b.normal, counters, false);
+        for (size_t k = 0; k < count; ++k, ++w) correction += weights[w].first * (weights[w].second - b_line);
+    }
+    return correction;
+}
+
+DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal,
+                                       ProbeCounters* counters, bool edges) const {
+    const Solution& s = s_;
     const uint32_t root = s.elements[leaf].root;
     const double lift = gather::kLift * s.scene_extent;
     // The lift off the polygons the point touches (gather.h), among those that can light it:
@@ -303,10 +405,11 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
         }
         pending_light -= p.light;
     }
-    DVec3 h = g.sum + separable;
-    if (s.scene && !s.scene->lights.empty())
-        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
-    return h;
+    const DVec3 h = g.sum + separable;
+    if (!edges || !s.options.edge_correction || touched_count < 2) return h;
+    return glm::max(DVec3(0.0),
+                    h + edgeCorrection(leaf, p_world, normal, h, std::span<const uint32_t>(touched.data(), touched_count),
+                                       counters));
 }
 
 DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world,

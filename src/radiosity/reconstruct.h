@@ -18,6 +18,7 @@
 // probeIrradiance (the exhaustive gather from every root, rays for every element) stays the
 // reference: --texel-tolerance 0 and --quality reference use it.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/parallel.h"
@@ -56,6 +57,14 @@ public:
 private:
     DVec3 evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                    ProbeCounters* counters) const;
+    // The light through the links of `leaf` (no punctual lights); `edges`: with the
+    // correction where the point touches a face at a concave edge (reconstruct.cpp).
+    DVec3 evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal, ProbeCounters* counters,
+                       bool edges) const;
+    DVec3 edgeCorrection(uint32_t leaf, const DVec3& p_world, const DVec3& normal, const DVec3& h,
+                         std::span<const uint32_t> touched, ProbeCounters* counters) const;
+    // The leaf below element e that holds p_world (nearest child at each level).
+    uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;
     struct PendingSource {
         uint32_t source;  // element
         double form_factor;  // from the point, unoccluded

@@ -40,6 +40,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_samples = 3;
             o.probe_visibility_ratio = 0.005;
             o.probe_visibility_coarse = 0.07;
+            o.edge_correction = true;
             break;
         case Quality::Reference:
             o.error_threshold = 1e-5;
@@ -56,6 +57,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_samples = 4;
             o.probe_visibility_ratio = 0.002;
             o.probe_visibility_coarse = 0.05;
+            o.edge_correction = true;
             break;
     }
     return o;
