@@ -398,6 +398,20 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
             // there is. (Behind every link not proven visible, house.wrl's vertices cast 1,176
             // rays each instead of 357, for shadow.wrl's texels at 1.3 % instead of 2.0 %.)
             g.coarse_rule_on_emitters = p.partial;
+            // A source whose link found it blocked (a cluster pair's one ray, an element link's
+            // every ray) is first tried with one ray to its centroid: open, it is gathered with
+            // rays; blocked, it stays dark. Most of them are blocked, and gathering each with
+            // its own rays cost house.wrl's vertices 1.5 x (69.5 us instead of 46); the
+            // tessellated Cornell box's vertices keep 2.40 % RMS (p95 3.08 -> 3.35 %, bias
+            // +0.01 -> -0.18 %: a piece whose centre is hidden while some of it shows).
+            if (!(maxChannel(p.fallback) > 0.0)) {
+                const Element& e = s.elements[p.source];
+                if (g.counters) ++g.counters->rays;
+                if (s.rays->segmentBlocked(g.origin, e.centroid + g.lift * e.normal)) {
+                    pending_light -= p.light;
+                    continue;
+                }
+            }
             g.visit(p.source);
             g.coarse_opening = false;
         } else {
