@@ -71,8 +71,9 @@ struct SolverOptions {
                                            // radius / distance, so a sliver of light is not lost between rays
     // The link reconstruction corrects a point on a concave edge or corner for the darkening of
     // the face beside it (reconstruct.cpp): the tessellated Cornell box's output vertices 2.40
-    // -> 2.07 % RMS, p95 3.08 -> 1.82 %, for 2.7 x house.wrl's vertex time. Off at draft and
-    // medium, on at high and reference.
+    // -> 2.07 % RMS, p95 3.35 -> 2.24 %, for about 2.4 x house.wrl's vertex time (each such
+    // point reads the faces beside it once more). Off at draft and medium, on at high and
+    // reference.
     bool edge_correction = false;
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
     // Links start between clusters of roots (cluster.h) instead of between every pair of
