@@ -245,7 +245,7 @@ void addBakeCommand(CLI::App& app, int& result) {
                   "(quadratic in the polygon count: for comparisons)");
     cmd->add_option("--edge-correction", args->edge_correction,
                     "Correct points on concave edges and corners for the darkening of the face beside them "
-                    "(on by default at high and reference quality; about 2.7 x the vertex time)")
+                    "(on by default at high and reference quality; about 2.4 x the vertex time)")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--solution", args->solution_file,
                     "Reuse the radiosity solution saved in this file when the scene and solver settings are the "
