@@ -24,7 +24,10 @@ struct RootPolygon {
 
 // Replaces each polygon that another one touches or crosses (along a segment that enters
 // its interior by more than `tolerance`, the other rising at least 1e-3 of its size from its
-// plane; each side at least 1 % of its area) by its pieces on either side of that polygon's plane, in place and in order (a polygon's pieces follow each other). Polygons sharing only
+// plane; the piece behind the other's plane at least 1 % of its area, the piece in front of it
+// at least 0.1 %: a lit sliver beside a block's foot is most of what the foot's edge sees) by
+// its pieces on either side of that polygon's plane, in place and in order (a polygon's pieces
+// follow each other). Polygons sharing only
 // an edge (a room's corner, a box's own faces) or lying in one plane are left whole. Pieces
 // stay convex, at most `max_vertices` corners. Returns the number of cuts made.
 // Deterministic; O(n log n) plus the touching pairs.

@@ -2,6 +2,7 @@
 // geometry worked out by hand.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "geometry/polygon.h"
@@ -87,6 +88,28 @@ TEST_CASE("a floor is cut along the foot of a block standing on it: the footprin
     CHECK(footprints == 1);
     // The pieces follow each other in place of the floor, then the block's faces in order.
     for (size_t i = 0; i < 5; ++i) CHECK(polygons[i].mesh == 0);
+}
+
+TEST_CASE("a lit sliver beside a block's foot is cut off down to 0.1 % of the tile; a hidden one stays below 1 %") {
+    // A unit floor tile that a block covers but for a strip 3e-3 wide (0.3 % of the tile) in
+    // front of its +x face: the strip is what a point on that face's bottom edge mostly sees.
+    std::vector<RootPolygon> lit{quad(0, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0})};
+    addBlock(lit, 1, -1.0, -1.0, 0.997, 2.0, 0.5);
+    CHECK(cutAtContacts(lit, kTolerance, 32) == 1);
+    REQUIRE(countOf(lit, 0) == 2);
+    double smallest = 1.0;
+    for (const RootPolygon& p : lit)
+        if (p.mesh == 0) smallest = std::min(smallest, polygonArea(p.loop));
+    CHECK(smallest == doctest::Approx(3e-3).epsilon(1e-9));
+    // The same strip under a block (behind its -x face) moves the tile's mean by at most 0.3 %.
+    std::vector<RootPolygon> hidden{quad(0, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0})};
+    addBlock(hidden, 1, 0.997, -1.0, 2.0, 2.0, 0.5);
+    CHECK(cutAtContacts(hidden, kTolerance, 32) == 0);
+    CHECK(countOf(hidden, 0) == 1);
+    // Below 0.1 % in front, not cut either.
+    std::vector<RootPolygon> thin{quad(0, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0})};
+    addBlock(thin, 1, -1.0, -1.0, 0.9995, 2.0, 0.5);
+    CHECK(cutAtContacts(thin, kTolerance, 32) == 0);
 }
 
 TEST_CASE("a beam going into the ground is cut at the ground, and the ground along the beam") {
