@@ -5,7 +5,7 @@
 // over covered texels (vertices).
 //   bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] [--threads 0]
 //                     [--skip-exhaustive-texels | --skip-exhaustive | --vertices-only] [--worst]
-//                     [--repeat N]
+//                     [--repeat N] [--edge-correction off|shared|on]
 // --skip-exhaustive: no exhaustive reference at all (timings only); --vertices-only: the
 // vertices, timed, no reference; --worst lists the 30 worst vertices (1 % floor), and
 // for texels each mesh's RMS and share of the squared error, and the 30 worst texels (5 a mesh);
@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
     std::string quality = "medium";
     double density = 16.0;
     int threads = 0, repeat = 1;
+    std::string edge_correction;  // "": the quality's choice
     bool exhaustive_texels = true, exhaustive_vertices = true, texels = true;
     int first = 1;
     if (argc > 1 && argv[1][0] != '-') path = argv[first++];
@@ -166,7 +167,7 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) {
             std::fprintf(stderr, "usage: bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] "
                                  "[--threads 0] [--skip-exhaustive-texels|--skip-exhaustive|--vertices-only] "
-                                 "[--worst] [--repeat N]\n");
+                                 "[--worst] [--repeat N] [--edge-correction off|shared|on]\n");
             return 2;
         }
         const std::string value = argv[++i];
@@ -174,6 +175,7 @@ int main(int argc, char** argv) {
         else if (key == "--texel-density") density = std::atof(value.c_str());
         else if (key == "--threads") threads = std::atoi(value.c_str());
         else if (key == "--repeat") repeat = std::max(1, std::atoi(value.c_str()));
+        else if (key == "--edge-correction") edge_correction = value;
         else {
             std::fprintf(stderr, "unknown option %s\n", key.c_str());
             return 2;
@@ -186,7 +188,11 @@ int main(int argc, char** argv) {
     const auto scene = importScene(path, ImportOptions{}, diagnostics);
     if (!scene) return 1;
     const Quality q = qualityNamed(quality);
-    const BakeOptions preset = BakeOptions::forQuality(q);
+    BakeOptions preset = BakeOptions::forQuality(q);
+    if (!edge_correction.empty())
+        preset.solver.edge_correction = edge_correction == "on"       ? EdgeCorrection::On
+                                        : edge_correction == "shared" ? EdgeCorrection::Shared
+                                                                      : EdgeCorrection::Off;
     Progress progress(false);
     ParallelRunner runner(Threading{.threads = threads});
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);

@@ -37,7 +37,7 @@ struct BakeArgs {
     bool export_lights = false;
     bool no_lightmaps = false;
     bool no_clustering = false;
-    std::string edge_correction;  // "", "on" or "off": the quality's choice unless given
+    std::string edge_correction;  // "", "off", "shared" or "on": the quality's choice unless given
     LightmapSettings lightmaps;
     // Raw knobs; applied over the preset only when given on the command line.
     double error_threshold = 0.0;
@@ -87,7 +87,10 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     if (args.max_iterations_option->count()) solver.max_iterations = args.max_iterations;
     solver.max_memory_mb = args.max_memory_mb;
     solver.clustering = !args.no_clustering;
-    if (!args.edge_correction.empty()) solver.edge_correction = args.edge_correction == "on";
+    if (!args.edge_correction.empty())
+        solver.edge_correction = args.edge_correction == "on"       ? EdgeCorrection::On
+                                 : args.edge_correction == "shared" ? EdgeCorrection::Shared
+                                                                    : EdgeCorrection::Off;
     const double texel_tolerance = options.lightmaps.texel_tolerance;
     options.lightmaps = args.lightmaps;
     options.lightmaps.enabled = !args.no_lightmaps;
@@ -244,9 +247,11 @@ void addBakeCommand(CLI::App& app, int& result) {
                   "Link every facing pair of polygons instead of starting links between clusters of them "
                   "(quadratic in the polygon count: for comparisons)");
     cmd->add_option("--edge-correction", args->edge_correction,
-                    "Correct points on concave edges and corners for the darkening of the face beside them "
-                    "(on by default at high and reference quality; about 2.4 x the vertex time)")
-        ->check(CLI::IsMember({"on", "off"}));
+                    "Correct points on concave edges and corners for the darkening of the face beside them: "
+                    "shared (the default at medium): output vertices where the faces beside have vertices too, "
+                    "about 1.1 x the vertex time; on (high, reference): every such point, vertices, texels "
+                    "and probes, about 2 x; off (draft)")
+        ->check(CLI::IsMember({"off", "shared", "on"}));
     cmd->add_option("--solution", args->solution_file,
                     "Reuse the radiosity solution saved in this file when the scene and solver settings are the "
                     "same (iterating on lightmap, vertex or probe settings), else solve and save it there");

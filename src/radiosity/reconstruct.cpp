@@ -54,8 +54,19 @@ constexpr uint32_t kExactSeparableMembers = 64;
 // leaf's light: sum over pieces f (h / h_mean - 1) (B_mean - B_line). Exact (zero) where the
 // radiosity is uniform. Pieces: the leaf split three times (64 for a quad).
 constexpr int kEdgeCorrectionSplits = 3;
+// A face beside the point takes a SideLight's H when their normals agree this closely
+// (1 - cos; the vertex bake's own grouping of normals).
+constexpr double kSameSideNormal = 1e-6;
 constexpr double kEdgeCorrectionShare = 0.01;
 constexpr int kLinkVisibilitySplits = 1;
+
+// The light of another face at the point, given by the caller, for a face of this normal.
+const LinkReconstruction::SideLight* sideLightOf(std::span<const LinkReconstruction::SideLight> side_light,
+                                                 const DVec3& normal) {
+    for (const auto& l : side_light)
+        if (glm::dot(l.normal, normal) > 1.0 - kSameSideNormal) return &l;
+    return nullptr;
+}
 
 // The polygon among `candidates` that holds p: the first within a rounding tolerance of it
 // (1e-6 of its size: a point on the edge two children share, a chart edge's sample, goes to
@@ -234,26 +245,84 @@ uint32_t LinkReconstruction::leafBelow(uint32_t e, const DVec3& p_world) const {
     return e;
 }
 
-DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                                   ProbeCounters* counters) const {
-    const Solution& s = s_;
+uint32_t LinkReconstruction::readingLeaf(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                         const DVec3& normal) const {
     const uint32_t leaf = leafAt(mesh, triangle, p_world);
     // Only a point on its element's front side reads that element's links (a black receiver
     // has links too: oracleReflectance in refine.h).
-    if (leaf == kNoElement || !(glm::dot(s.elements[leaf].normal, normal) > 0.5))
+    if (leaf == kNoElement || !(glm::dot(s_.elements[leaf].normal, normal) > 0.5)) return kNoElement;
+    return leaf;
+}
+
+DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                                   ProbeCounters* counters, bool edges) const {
+    const Solution& s = s_;
+    const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
+    if (leaf == kNoElement)
         return counters ? probeIrradianceCounted(s, p_world, normal, *counters, mesh)
                         : probeIrradiance(s, p_world, normal, mesh);
-    DVec3 h = evaluateLeaf(leaf, p_world, normal, counters, true);
+    DVec3 h = evaluateLeaf(leaf, p_world, normal, counters, edges);
     if (s.scene && !s.scene->lights.empty())
         h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
     return h;
 }
 
+DVec3 LinkReconstruction::irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                                const DVec3& normal) const {
+    return evaluate(mesh, triangle, p_world, normal, nullptr, false);
+}
+
+DVec3 LinkReconstruction::edgeCorrectionAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                           const DVec3& normal, const DVec3& h,
+                                           std::span<const SideLight> beside) const {
+    if (s_.options.edge_correction == EdgeCorrection::Off) return DVec3(0.0);
+    // Shared: only faces beside that `beside` gives, so none unless it holds another plane.
+    if (s_.options.edge_correction == EdgeCorrection::Shared &&
+        std::none_of(beside.begin(), beside.end(), [&](const SideLight& l) {
+            return glm::length(glm::cross(l.normal, normal)) > 1e-6;
+        }))
+        return DVec3(0.0);
+    const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
+    if (leaf == kNoElement) return DVec3(0.0);
+    const Touched touched = touchedRoots(leaf, p_world);
+    if (touched.count < 2) return DVec3(0.0);
+    return edgeCorrection(leaf, p_world, normal, h, std::span<const uint32_t>(touched.roots.data(), touched.count),
+                          beside, nullptr);
+}
+
+LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, const DVec3& p_world) const {
+    const Solution& s = s_;
+    const uint32_t root = s.elements[leaf].root;
+    const double lift = gather::kLift * s.scene_extent;
+    Touched t;
+    const auto touch = [&](uint32_t r) {
+        for (size_t k = 0; k < t.count; ++k)
+            if (t.roots[k] == r) return;
+        if (t.count < t.roots.size()) t.roots[t.count++] = r;
+        gather::addLiftDirection(s, r, p_world, lift, t.direction);
+    };
+    touch(root);
+    for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
+        for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
+            const Element& source = s.elements[s.links[l].source];
+            // A source polygon can touch the point only if it comes within lift of it.
+            if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(source.root);
+        }
+    // And the members of pairwise cluster links (a neighbouring tile of a tessellated wall).
+    forClusterPairs(root, [&](uint32_t member, double, const ClusterLink&) {
+        const Element& source = s.elements[member];
+        if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(member);
+    });
+    return t;
+}
+
 DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, const DVec3& normal, const DVec3& h,
-                                         std::span<const uint32_t> touched, ProbeCounters* counters) const {
+                                         std::span<const uint32_t> touched, std::span<const SideLight> side_light,
+                                         ProbeCounters* counters) const {
     const Solution& s = s_;
     const double lift = gather::kLift * s.scene_extent;
     const Element& own = s.elements[leaf];
+    const bool shared_only = s.options.edge_correction == EdgeCorrection::Shared;
     std::vector<std::pair<uint32_t, size_t>> faces;  // touched concave neighbour root, its leaves' count
     std::vector<std::pair<double, DVec3>> weights;   // per touching leaf: weight, B_mean
     double potential = 0.0;
@@ -269,6 +338,7 @@ DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, co
         if (!(std::abs(glm::dot(other.normal, p_world - other_polygon.vertices[0])) < lift) ||
             !(pointPolygonDistance(p_world, other_polygon) < lift))
             continue;
+        if (shared_only && !sideLightOf(side_light, other.normal)) continue;
         const DVec3 line = glm::normalize(axis);
         const DVec3 origin = p_world + lift * (normal + other.normal);  // off both planes
         // Every leaf of that face the point touches (on the border between two, both): one
@@ -320,41 +390,22 @@ DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, co
     for (const auto& [r, count] : faces) {
         const uint32_t beside = leafBelow(r, p_world);
         const Element& b = s.elements[beside];
-        const DVec3 b_line = b.emission + b.reflectance * evaluateLeaf(beside, p_world, b.normal, counters, false);
+        const SideLight* known = sideLightOf(side_light, b.normal);
+        const DVec3 h_beside = known ? known->h : evaluateLeaf(beside, p_world, b.normal, counters, false);
+        const DVec3 b_line = b.emission + b.reflectance * h_beside;
         for (size_t k = 0; k < count; ++k, ++w) correction += weights[w].first * (weights[w].second - b_line);
     }
     return correction;
 }
 
 DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal,
-                                       ProbeCounters* counters, bool edges) const {
+                                       ProbeCounters* counters, bool edges, bool rays) const {
     const Solution& s = s_;
-    const uint32_t root = s.elements[leaf].root;
     const double lift = gather::kLift * s.scene_extent;
     // The lift off the polygons the point touches (gather.h), among those that can light it:
     // its own root and the roots of its links' sources.
-    std::array<uint32_t, 64> touched{};
-    size_t touched_count = 0;
-    DVec3 direction(0.0);
-    const auto touch = [&](uint32_t r) {
-        for (size_t k = 0; k < touched_count; ++k)
-            if (touched[k] == r) return;
-        if (touched_count < touched.size()) touched[touched_count++] = r;
-        gather::addLiftDirection(s, r, p_world, lift, direction);
-    };
-    touch(root);
-    for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
-        for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
-            const Element& source = s.elements[s.links[l].source];
-            // A source polygon can touch the point only if it comes within lift of it.
-            if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(source.root);
-        }
-    // And the members of pairwise cluster links (a neighbouring tile of a tessellated wall).
-    forClusterPairs(root, [&](uint32_t member, double, const ClusterLink&) {
-        const Element& source = s.elements[member];
-        if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(member);
-    });
-    const DVec3 point = p_world + lift * direction;
+    const Touched touched = touchedRoots(leaf, p_world);
+    const DVec3 point = p_world + lift * touched.direction;
     gather::Gatherer g{.s = s,
                        .point = point,
                        .normal = normal,
@@ -390,7 +441,7 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     });
     for (const uint32_t k : order) {
         const PendingSource& p = pending[k];
-        if (pending_light > kRayShare * maxChannel(g.sum + separable)) {
+        if (rays && pending_light > kRayShare * maxChannel(g.sum + separable)) {
             g.use_rays = true;
             g.coarse_opening = p.partial && p.light > kCoarseShare * total;
             g.known_form_factor = p.form_factor;
@@ -420,20 +471,20 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
         pending_light -= p.light;
     }
     const DVec3 h = g.sum + separable;
-    if (!edges || !s.options.edge_correction || touched_count < 2) return h;
-    return glm::max(DVec3(0.0),
-                    h + edgeCorrection(leaf, p_world, normal, h, std::span<const uint32_t>(touched.data(), touched_count),
-                                       counters));
+    if (!edges || s.options.edge_correction != EdgeCorrection::On || touched.count < 2) return h;
+    return glm::max(DVec3(0.0), h + edgeCorrection(leaf, p_world, normal, h,
+                                                   std::span<const uint32_t>(touched.roots.data(), touched.count),
+                                                   {}, counters));
 }
 
 DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
                                      const DVec3& normal) const {
-    return evaluate(mesh, triangle, p_world, normal, nullptr);
+    return evaluate(mesh, triangle, p_world, normal, nullptr, true);
 }
 
 DVec3 LinkReconstruction::irradianceCounted(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
                                             const DVec3& normal, ProbeCounters& counters) const {
-    return evaluate(mesh, triangle, p_world, normal, &counters);
+    return evaluate(mesh, triangle, p_world, normal, &counters, true);
 }
 
 }  // namespace radbake

@@ -17,6 +17,7 @@
 //   - punctual lights' direct light by rays, as probeIrradiance.
 // probeIrradiance (the exhaustive gather from every root, rays for every element) stays the
 // reference: --texel-tolerance 0 and --quality reference use it.
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -54,15 +55,42 @@ public:
     // first element in order.
     uint32_t leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const;
 
+    // The same split in two, for a caller that reads several faces at one point (the vertex
+    // bake, at a vertex on an edge): H without the edge correction, then the correction to add
+    // to it. A face beside the point whose normal is one of `beside`'s takes that H
+    // (uncorrected, read at this point) instead of being read once more through its own links;
+    // with EdgeCorrection::Shared only those faces are corrected for, with Off none.
+    // irradiance() = max(0, uncorrected + correction) without `beside`, at On only.
+    struct SideLight {
+        DVec3 normal;  // unit
+        DVec3 h;       // H there, uncorrected
+    };
+    DVec3 irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
+    DVec3 edgeCorrectionAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                           const DVec3& h, std::span<const SideLight> beside) const;
+
 private:
+    // The leaf holding the point when the point reads its links (on its front side), else
+    // kNoElement (read by probeIrradiance).
+    uint32_t readingLeaf(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     DVec3 evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                   ProbeCounters* counters) const;
+                   ProbeCounters* counters, bool edges) const;
     // The light through the links of `leaf` (no punctual lights); `edges`: with the
-    // correction where the point touches a face at a concave edge (reconstruct.cpp).
+    // correction where the point touches a face at a concave edge (reconstruct.cpp); `rays`
+    // false: every source not proven visible at its link's own visibility.
     DVec3 evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal, ProbeCounters* counters,
-                       bool edges) const;
+                       bool edges, bool rays = true) const;
+    // The roots that can touch the point (its own, its links' sources', its cluster pairs'
+    // members within lift of it), at most 64, and the lift direction off them (gather.h).
+    struct Touched {
+        std::array<uint32_t, 64> roots{};
+        size_t count = 0;
+        DVec3 direction{0.0};
+    };
+    Touched touchedRoots(uint32_t leaf, const DVec3& p_world) const;
     DVec3 edgeCorrection(uint32_t leaf, const DVec3& p_world, const DVec3& normal, const DVec3& h,
-                         std::span<const uint32_t> touched, ProbeCounters* counters) const;
+                         std::span<const uint32_t> touched, std::span<const SideLight> beside,
+                         ProbeCounters* counters) const;
     // The leaf below element e that holds p_world (nearest child at each level).
     uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;
     struct PendingSource {

@@ -22,6 +22,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_samples = 2;
             o.probe_visibility_ratio = 0.03;
             o.probe_visibility_coarse = 0.2;
+            o.edge_correction = EdgeCorrection::Off;
             break;
         case Quality::Medium:
             break;  // the defaults in solver.h
@@ -40,7 +41,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_samples = 3;
             o.probe_visibility_ratio = 0.005;
             o.probe_visibility_coarse = 0.07;
-            o.edge_correction = true;
+            o.edge_correction = EdgeCorrection::On;
             break;
         case Quality::Reference:
             o.error_threshold = 1e-5;
@@ -57,7 +58,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_samples = 4;
             o.probe_visibility_ratio = 0.002;
             o.probe_visibility_coarse = 0.05;
-            o.edge_correction = true;
+            o.edge_correction = EdgeCorrection::On;
             break;
     }
     return o;

@@ -22,6 +22,18 @@ struct PartSet;
 // (conservative); rays only for the links that stay partly hidden.
 enum class LinkVisibility { Rays, Aabb, Obb, Exact };
 enum class Quality { Draft, Medium, High, Reference };
+// Where the link reconstruction corrects a point on a concave edge or corner for the darkening
+// of the face beside it (reconstruct.cpp, edgeCorrection).
+enum class EdgeCorrection {
+    Off,
+    // At output vertices whose faces beside have vertices at the same point (a room's edges
+    // and corners): the vertex bake reads those faces there anyway, so the correction costs
+    // only its weights.
+    Shared,
+    // Also at every other point that touches a concave edge (lightmap texels, probes, a block's
+    // foot on a floor), reading the faces beside once more through their links.
+    On,
+};
 
 // Every threshold is relative to the scene, so a scene scaled by any factor (1e-4, 1e6)
 // refines the same way:
@@ -69,12 +81,10 @@ struct SolverOptions {
                                            // a leaf its polygon split, until radius / distance is below this
     double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
                                            // radius / distance, so a sliver of light is not lost between rays
-    // The link reconstruction corrects a point on a concave edge or corner for the darkening of
-    // the face beside it (reconstruct.cpp): the tessellated Cornell box's output vertices 2.40
-    // -> 2.07 % RMS, p95 3.35 -> 2.24 %, for about 2.4 x house.wrl's vertex time (each such
-    // point reads the faces beside it once more). Off at draft and medium, on at high and
-    // reference.
-    bool edge_correction = false;
+    // The tessellated Cornell box's output vertices (session 9, after the sliver cuts): off 2.32
+    // % RMS, p95 3.33 %; Shared 2.02 / 2.52 % for about 1.1 x house.wrl's vertex time; On
+    // 1.98 / 2.26 % for about 2 x. Off at draft, Shared at medium, On at high and reference.
+    EdgeCorrection edge_correction = EdgeCorrection::Shared;
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
     // Links start between clusters of roots (cluster.h) instead of between every pair of
     // roots: linking in O(n log n) instead of O(n^2). Off: every facing pair of roots.

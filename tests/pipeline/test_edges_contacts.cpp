@@ -22,7 +22,7 @@ namespace {
 constexpr double kNudge = 1e-4;
 
 Bake bakeFile(const std::string& path, std::optional<std::vector<Probe>> probes = std::nullopt,
-              bool edge_correction = false) {
+              EdgeCorrection edge_correction = SolverOptions{}.edge_correction) {
     BakeOptions options = BakeOptions::forQuality(Quality::Medium);
     options.solver.edge_correction = edge_correction;
     options.lightmaps.enabled = false;
@@ -188,10 +188,10 @@ TEST_CASE("a black block standing on an emitting floor: its bottom edges hold 1/
 TEST_CASE("a furnace's edges and corners: H = pi L / (1 - rho) at every vertex and at edge and corner probes") {
     // With the edge correction too (reconstruct.cpp): where the radiosity is uniform it must
     // change nothing, whatever each face beside a corner reads there.
-    for (const bool edge_correction : {false, true})
+    for (const EdgeCorrection edge_correction : {EdgeCorrection::Off, EdgeCorrection::Shared, EdgeCorrection::On})
     for (const double rho : {0.5, 0.9}) {
         CAPTURE(rho);
-        CAPTURE(edge_correction);
+        CAPTURE(static_cast<int>(edge_correction));
         TempDir dir;
         std::ostringstream material;
         material << "diffuseColor " << rho << ' ' << rho << ' ' << rho << " emissiveColor 1 1 1";
@@ -228,7 +228,7 @@ TEST_CASE("a furnace's edges and corners: H = pi L / (1 - rho) at every vertex a
             CHECK(std::abs(baked.probe_irradiance[i].x / (kPi * expected) - 1.0) < 0.02);
             at_probes.add(baked.probe_irradiance[i].x, kPi * expected);
         }
-        MESSAGE("furnace rho " << rho << std::string(edge_correction ? " (edge correction)" : "") << ": worst corner vertex " << corners.worst << ", other vertices " << rest.worst
+        MESSAGE("furnace rho " << rho << std::string(edge_correction == EdgeCorrection::Off ? "" : edge_correction == EdgeCorrection::Shared ? " (edge correction at shared vertices)" : " (edge correction)") << ": worst corner vertex " << corners.worst << ", other vertices " << rest.worst
                                << ", probes " << at_probes.worst);
     }
 }
