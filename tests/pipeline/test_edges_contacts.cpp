@@ -233,6 +233,51 @@ TEST_CASE("a furnace's edges and corners: H = pi L / (1 - rho) at every vertex a
     }
 }
 
+// EdgeCorrection::Shared (medium's default) corrects an output vertex only for the faces beside
+// that have vertices at the same point, from the vertex bake's own read there; On reads every
+// face beside through its links. In a room whose walls' grids meet on every edge, every face
+// beside has a vertex there: the two must agree at every vertex, and both must move the corners
+// (a concave corner darkens towards its edges; Off reads it bright).
+TEST_CASE("the edge correction at shared vertices equals the full one where every face beside has a vertex") {
+    TempDir dir;
+    const std::string white = "diffuseColor 0.75 0.75 0.75";
+    const std::string scene = "#VRML V2.0 utf8\n" + gridShape(white, {0, 0, 0}, {0, 0, 1}, {1, 0, 0}, 4) +
+                              gridShape(white, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, 4) +
+                              gridShape(white, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 4) +
+                              gridShape(white, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 4) +
+                              gridShape(white, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 4) +
+                              gridShape(white, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, 4) +
+                              gridShape("diffuseColor 0 0 0 emissiveColor 10 10 10", {0.4, 0.9, 0.4}, {0.2, 0, 0},
+                                        {0, 0, 0.2}, 1);  // a lamp facing down
+    const std::string path = testfs::writeText(dir, "room.wrl", scene);
+    const Bake off = bakeFile(path, std::nullopt, EdgeCorrection::Off);
+    const Bake shared = bakeFile(path, std::nullopt, EdgeCorrection::Shared);
+    const Bake on = bakeFile(path, std::nullopt, EdgeCorrection::On);
+    double corner_change = 0.0;
+    size_t corners = 0, moved = 0;
+    for (size_t mesh = 0; mesh < 6; ++mesh) {
+        const Mesh& face = shared.scene->meshes[mesh];
+        for (size_t v = 0; v < face.positions.size(); ++v) {
+            const Vec3 p = face.positions[v];
+            CAPTURE(p);
+            const double s = shared.vertices.values[mesh][v].x, o = on.vertices.values[mesh][v].x,
+                         f = off.vertices.values[mesh][v].x;
+            REQUIRE(f > 0.0);
+            CHECK(s == doctest::Approx(o).epsilon(1e-6));
+            const int on_edges = (p.x == 0.0f || p.x == 1.0f) + (p.y == 0.0f || p.y == 1.0f) + (p.z == 0.0f || p.z == 1.0f);
+            if (on_edges == 1) CHECK(s == doctest::Approx(f).epsilon(1e-9));  // inside a wall: nothing beside
+            moved += std::abs(s / f - 1.0) > 1e-3;
+            if (on_edges == 3) {
+                ++corners;
+                corner_change += s / f - 1.0;
+            }
+        }
+    }
+    REQUIRE(corners == 24);
+    MESSAGE("corners: mean change " << corner_change / corners << ", vertices moved " << moved);
+    CHECK(corner_change / corners < -0.01);  // darker, by more than 1 % on average
+}
+
 // The tessellated Cornell box's room (walls 16 x 16 tiles, its 4 x 4 lamp) with its two blocks
 // (VRML Boxes) standing on the floor, whose feet cross the floor's tiles: the floor's vertices
 // against the exhaustive gather at the same points. Read through the links of the first tile
