@@ -39,7 +39,9 @@ size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_
 // light falls to zero at the plane and stays zero past it: a wall's top strip above a ceiling
 // lamp is dark, and a tile spanning the plane read the mean of the two sides, which is what the
 // room's corners saw there (+30 % at the tessellated Cornell box's ceiling corners). Sources
-// are not cut. `polygons` and `emits` are indexed alike (emits is not updated). Returns the cuts.
+// are not cut. The lit piece touching the plane is cut again halfway up (its direct light
+// rises from zero at the plane). `polygons` and `emits` are indexed alike (emits is not
+// updated). Returns the cuts.
 size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<bool>& emits, double tolerance,
                          size_t max_vertices);
 

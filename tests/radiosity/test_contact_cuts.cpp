@@ -158,7 +158,8 @@ TEST_CASE("polygons that only share edges, lie in one plane or barely rise are l
 }
 
 // A 0.2 m lamp at z = 0.99 facing down in a unit room: its plane crosses the four walls' top
-// tiles (z from 0.9375 to 1), each cut into a 1 cm strip above the plane and the rest; the
+// tiles (z from 0.9375 to 1), each cut into a 1 cm strip above the plane and the lit rest, and
+// that rest once more halfway down (its direct light rises from zero at the plane); the
 // ceiling (parallel), the floor (not crossed) and a wall beyond the lamp's reach stay whole.
 TEST_CASE("the plane of a light source cuts the walls it crosses near it, and nothing else") {
     std::vector<RootPolygon> polygons{
@@ -170,19 +171,21 @@ TEST_CASE("the plane of a light source cuts the walls it crosses near it, and no
         quad(5, {9, 0, 0.9375}, {9, 0.0625, 0.9375}, {9, 0.0625, 1}, {9, 0, 1}),          // 8 m away
     };
     std::vector<bool> emits{true, false, false, false, false, false};
-    CHECK(cutAtSourcePlanes(polygons, emits, kTolerance, 32) == 2);
-    REQUIRE(polygons.size() == 8);
+    CHECK(cutAtSourcePlanes(polygons, emits, kTolerance, 32) == 4);
+    REQUIRE(polygons.size() == 10);
     CHECK(countOf(polygons, 0) == 1);
     for (const uint32_t wall : {1u, 2u}) {
         CAPTURE(wall);
-        CHECK(countOf(polygons, wall) == 2);
+        CHECK(countOf(polygons, wall) == 3);
         CHECK(areaOf(polygons, wall) == doctest::Approx(0.0625 * 0.0625).epsilon(1e-12));
+        const double halfway = 0.99 - 0.5 * (0.99 - 0.9375);
         for (const RootPolygon& p : polygons) {
             if (p.mesh != wall) continue;
             double lo = 1.0, hi = 0.0;
             for (const DVec3& v : p.loop) lo = std::min(lo, v.z), hi = std::max(hi, v.z);
             CHECK(((lo == doctest::Approx(0.99) && hi == doctest::Approx(1.0)) ||
-                   (lo == doctest::Approx(0.9375) && hi == doctest::Approx(0.99))));
+                   (lo == doctest::Approx(halfway) && hi == doctest::Approx(0.99)) ||
+                   (lo == doctest::Approx(0.9375) && hi == doctest::Approx(halfway))));
         }
     }
     for (const uint32_t whole : {3u, 4u, 5u}) CHECK(countOf(polygons, whole) == 1);
