@@ -81,9 +81,9 @@ struct SolverOptions {
                                            // a leaf its polygon split, until radius / distance is below this
     double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
                                            // radius / distance, so a sliver of light is not lost between rays
-    // The tessellated Cornell box's output vertices (session 9, after the sliver cuts): off 2.32
-    // % RMS, p95 3.33 %; Shared 2.02 / 2.52 % for about 1.1 x house.wrl's vertex time; On
-    // 1.98 / 2.26 % for about 2 x. Off at draft, Shared at medium, On at high and reference.
+    // The tessellated Cornell box's output vertices (session 9): Off 2.08 % RMS, p95 3.43 %;
+    // Shared 1.76 / 2.63 %, no measurable cost on house.wrl's vertices; On 1.68 / 2.39 %, 1.8 x
+    // their time. Off at draft, Shared at medium, On at high and reference.
     EdgeCorrection edge_correction = EdgeCorrection::Shared;
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
     // Links start between clusters of roots (cluster.h) instead of between every pair of
