@@ -454,11 +454,21 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
             // rays; blocked, it stays dark. Most of them are blocked, and gathering each with
             // its own rays cost house.wrl's vertices 1.5 x (69.5 us instead of 46); the
             // tessellated Cornell box's vertices keep 2.40 % RMS (p95 3.08 -> 3.35 %, bias
-            // +0.01 -> -0.18 %: a piece whose centre is hidden while some of it shows).
+            // +0.01 -> -0.18 %: a piece whose centre is hidden while some of it shows). Where the
+            // centre is hidden, its corners pulled a quarter of the way in are tried too
+            // (session 9: the box 1.76 -> 1.67 % RMS, p95 2.63 -> 2.17 %, bias -0.45 -> -0.26 %,
+            // as without the pre-test; house.wrl's vertices about 1.15 x, a busy machine).
             if (!(maxChannel(p.fallback) > 0.0)) {
                 const Element& e = s.elements[p.source];
-                if (g.counters) ++g.counters->rays;
-                if (s.rays->segmentBlocked(g.origin, e.centroid + g.lift * e.normal)) {
+                const auto blocked = [&](const DVec3& at) {
+                    if (g.counters) ++g.counters->rays;
+                    return s.rays->segmentBlocked(g.origin, at + g.lift * e.normal);
+                };
+                bool hidden = blocked(e.centroid);
+                const PolygonView poly = polygonOf(s, e);
+                for (size_t c = 0; hidden && c < poly.vertices.size(); ++c)
+                    hidden = blocked(poly.vertices[c] + 0.25 * (e.centroid - poly.vertices[c]));
+                if (hidden) {
                     pending_light -= p.light;
                     continue;
                 }
