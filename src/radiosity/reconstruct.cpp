@@ -399,7 +399,7 @@ DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, co
 }
 
 DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal,
-                                       ProbeCounters* counters, bool edges, bool rays) const {
+                                       ProbeCounters* counters, bool edges) const {
     const Solution& s = s_;
     const double lift = gather::kLift * s.scene_extent;
     // The lift off the polygons the point touches (gather.h), among those that can light it:
@@ -441,7 +441,7 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     });
     for (const uint32_t k : order) {
         const PendingSource& p = pending[k];
-        if (rays && pending_light > kRayShare * maxChannel(g.sum + separable)) {
+        if (pending_light > kRayShare * maxChannel(g.sum + separable)) {
             g.use_rays = true;
             g.coarse_opening = p.partial && p.light > kCoarseShare * total;
             g.known_form_factor = p.form_factor;

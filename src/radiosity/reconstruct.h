@@ -76,10 +76,9 @@ private:
     DVec3 evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                    ProbeCounters* counters, bool edges) const;
     // The light through the links of `leaf` (no punctual lights); `edges`: with the
-    // correction where the point touches a face at a concave edge (reconstruct.cpp); `rays`
-    // false: every source not proven visible at its link's own visibility.
+    // correction where the point touches a face at a concave edge (reconstruct.cpp).
     DVec3 evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal, ProbeCounters* counters,
-                       bool edges, bool rays = true) const;
+                       bool edges) const;
     // The roots that can touch the point (its own, its links' sources', its cluster pairs'
     // members within lift of it), at most 64, and the lift direction off them (gather.h).
     struct Touched {
