@@ -16,8 +16,9 @@
 namespace radbake {
 namespace {
 
-// Face normals closer than this (1 - cos angle) count as one plane at a vertex.
-constexpr double kSameNormal = 1e-6;
+// Face normals closer than this (1 - cos angle) count as one plane at a vertex: the
+// reconstruction's, so that its SideLights match these groups.
+constexpr double kSameNormal = LinkReconstruction::kSameNormal;
 
 struct Incident {
     DVec3 normal;

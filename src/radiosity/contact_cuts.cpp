@@ -116,14 +116,6 @@ constexpr double kMinPieceFraction = 0.01;
 // -> 9-10 s; graz.wrl 39,271 -> 42,768 roots, 2.36M -> 2.47M links, 114 s either way.
 constexpr double kMinFrontPieceFraction = 1e-3;
 
-// Below a one-sided source's plane its direct light rises from zero, so the piece of a wall
-// just below it is brightest at its far end; a point that sees that piece only near the plane
-// (the ceiling above the tessellated Cornell box's lamp, lit through the 1 cm gap) read it at
-// its mean: those 8 vertices +25 % (the exhaustive gather +18 %). The lit piece touching the
-// plane is therefore cut once more halfway up: 14 % (exhaustive 13 %), the box's output
-// vertices 2.32 -> 2.08 % RMS without the edge correction. A second halving did not help the
-// exhaustive gather (13.1 %) and made the link read-out worse (23 %).
-//
 // A light source's plane cuts the polygons within this many times the diagonal of the box of
 // its mesh's sources (cutAtSourcePlanes).
 constexpr double kSourcePlaneReach = 2.0;
@@ -332,7 +324,13 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
             for (auto& piece : pieces)
                 cuts_made += splitPiece(piece, plane, min_area, min_area, tolerance, max_vertices, next) ? 1 : 0;
             std::swap(pieces, next);
-            // The lit piece that touches the plane, cut again halfway up (kSourcePlaneHalving).
+            // Below a one-sided source's plane its direct light rises from zero, so the piece of a wall
+            // just below it is brightest at its far end; a point that sees that piece only near the plane
+            // (the ceiling above the tessellated Cornell box's lamp, lit through the 1 cm gap) read it at
+            // its mean: those 8 vertices +25 % (the exhaustive gather +18 %). The lit piece touching the
+            // plane is therefore cut once more halfway up: 14 % (exhaustive 13 %), the box's output
+            // vertices 2.32 -> 2.08 % RMS without the edge correction. A second halving did not help the
+            // exhaustive gather (13.1 %) and made the link read-out worse (23 %).
             next.clear();
             for (auto& piece : pieces) {
                 double lo = INFINITY, hi = -INFINITY;

@@ -54,9 +54,6 @@ constexpr uint32_t kExactSeparableMembers = 64;
 // leaf's light: sum over pieces f (h / h_mean - 1) (B_mean - B_line). Exact (zero) where the
 // radiosity is uniform. Pieces: the leaf split three times (64 for a quad).
 constexpr int kEdgeCorrectionSplits = 3;
-// A face beside the point takes a SideLight's H when their normals agree this closely
-// (1 - cos; the vertex bake's own grouping of normals).
-constexpr double kSameSideNormal = 1e-6;
 constexpr double kEdgeCorrectionShare = 0.01;
 constexpr int kLinkVisibilitySplits = 1;
 
@@ -64,7 +61,7 @@ constexpr int kLinkVisibilitySplits = 1;
 const LinkReconstruction::SideLight* sideLightOf(std::span<const LinkReconstruction::SideLight> side_light,
                                                  const DVec3& normal) {
     for (const auto& l : side_light)
-        if (glm::dot(l.normal, normal) > 1.0 - kSameSideNormal) return &l;
+        if (glm::dot(l.normal, normal) > 1.0 - LinkReconstruction::kSameNormal) return &l;
     return nullptr;
 }
 

@@ -61,6 +61,9 @@ public:
     // (uncorrected, read at this point) instead of being read once more through its own links;
     // with EdgeCorrection::Shared only those faces are corrected for, with Off none.
     // irradiance() = max(0, uncorrected + correction) without `beside`, at On only.
+    // Normals closer than this (1 - cos) are one plane: a SideLight stands for the face beside
+    // of its normal, and the vertex bake groups a point's faces by it.
+    static constexpr double kSameNormal = 1e-6;
     struct SideLight {
         DVec3 normal;  // unit
         DVec3 h;       // H there, uncorrected
