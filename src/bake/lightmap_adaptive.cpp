@@ -28,6 +28,7 @@ struct Site {
     uint32_t face = 0;
     Cover cover = kEmpty;
     bool must = false;  // partly covered or beside a texel that is not fully covered
+    bool hidden = false;  // covered, but its sample point is inside geometry (left Empty)
 };
 
 // One chart's texels, flattened into the global arrays at `offset`.
@@ -192,7 +193,7 @@ void interpolateOwned(State& s, const Block& b) {
 
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
-                                      Progress* progress) {
+                                      Progress* progress, const HiddenTest& hidden) {
     State s{.layout = layout, .irradiance = irradiance, .progress = progress};
     size_t total = 0;
     for (const LightmapChart& chart : layout.charts) {
@@ -216,10 +217,21 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
                                                      static_cast<int>(t / span.width), site.p_plane, face);
                 site.face = static_cast<uint32_t>(face);
                 site.cover = covered <= 0.0 ? kEmpty : covered >= kFullCoverage ? kFull : kPartial;
+                if (site.cover != kEmpty && hidden) {
+                    const ChartFace& on = chart.faces[face];
+                    if (hidden({on.worldPoint(site.p_plane), on.normal_world, chart.mesh, on.triangle})) {
+                        site.cover = kEmpty;
+                        site.hidden = true;
+                    }
+                }
             }
         });
     }
-    for (const Site& site : s.sites) s.covered += site.cover != kEmpty ? 1 : 0;
+    size_t hidden_texels = 0;
+    for (const Site& site : s.sites) {
+        s.covered += site.cover != kEmpty ? 1 : 0;
+        hidden_texels += site.hidden ? 1 : 0;
+    }
     std::vector<size_t> batch;
     std::vector<Block> blocks;
     size_t required = 0;
@@ -300,6 +312,7 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
     AdaptiveCounts counts;
     counts.evaluated = s.evaluations;
     counts.required = tolerance > 0.0 ? required : 0;
+    counts.hidden = hidden_texels;
     for (uint32_t c = 0; c < layout.charts.size(); ++c) {
         const LightmapChart& chart = layout.charts[c];
         const ChartSpan& span = s.spans[c];

@@ -32,10 +32,12 @@ struct AdaptiveCounts {
     size_t evaluated = 0;     // irradiance evaluations at texel sample points
     size_t interpolated = 0;  // covered texels filled by bilinear interpolation
     size_t required = 0;      // texels evaluated whatever the light: partly covered or beside one
+    size_t hidden = 0;        // texels with geometry whose sample point `hidden` found inside geometry
 };
 
 // Fills the covered texels of every placed chart (state Covered, value H / pi) and leaves
-// the rest Empty. tolerance <= 0: every covered texel is evaluated, exactly as
+// the rest Empty; texels whose sample point `hidden` (when given) finds inside geometry are
+// left Empty too, and count as not covered for the blocks around them. tolerance <= 0: every covered texel is evaluated, exactly as
 // evaluateLightmaps always did. Decisions depend only on evaluated values and run level by
 // level; each evaluation writes its own slot: the result does not depend on the runner's
 // thread count. A cancelled runner leaves texels unevaluated (the caller discards them).
@@ -43,6 +45,6 @@ struct AdaptiveCounts {
 inline constexpr double kTexelShare = 0.9;
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
-                                      Progress* progress = nullptr);
+                                      Progress* progress = nullptr, const HiddenTest& hidden = {});
 
 }  // namespace radbake

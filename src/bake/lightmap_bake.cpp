@@ -2,12 +2,15 @@
 #include "bake/lightmap_bake.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_seams.h"
 #include "radiosity/reconstruct.h"
 #include "radiosity/solution.h"
+#include "geometry/polygon.h"
+#include "visibility/ray_caster.h"
 
 namespace radbake {
 namespace {
@@ -31,7 +34,35 @@ DVec2 polygonCentroid(const std::vector<DVec2>& polygon) {
 
 size_t texelIndex(const LightmapImage& image, int x, int y) { return static_cast<size_t>(y) * image.width + x; }
 
+// A ray meets the back of a surface: it travels along the hit triangle's front normal.
+// (A two-sided surface's back is its back twin's front: closestHit names the twin.)
+bool hitsBack(const Scene& scene, const RayCaster& rays, const DVec3& p, const DVec3& direction) {
+    const std::optional<RayHit> hit = rays.closestHit(p, direction, 2.0 * rays.sceneExtent());
+    if (!hit) return false;
+    const Mesh& mesh = scene.meshes[hit->triangle.mesh];
+    const UVec3& tri = mesh.triangles[hit->triangle.triangle];
+    const DVec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+    return dot(cross(b - a, c - a), direction) > 0.0;
+}
+
 }  // namespace
+
+bool insideGeometry(const Scene& scene, const RayCaster& rays, const DVec3& p, const DVec3& normal) {
+    if (!hitsBack(scene, rays, p, normal)) return false;
+    DVec3 u, v;
+    tangentFrame(normal, u, v);
+    // The normal's ray and kHiddenRays - 1 more on a golden-angle spiral, uniform in cos(theta)
+    // over (0, 1): fixed directions, so the answer is deterministic.
+    int backs = 1;
+    for (int k = 1; k < kHiddenRays; ++k) {
+        const double cos_theta = 1.0 - (k - 0.5) / (kHiddenRays - 1);
+        const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+        const double phi = 2.39996322972865332 * k;
+        const DVec3 direction = cos_theta * normal + sin_theta * (std::cos(phi) * u + std::sin(phi) * v);
+        backs += hitsBack(scene, rays, p, direction) ? 1 : 0;
+    }
+    return 2 * backs > kHiddenRays;
+}
 
 bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane) {
     size_t face = 0;
@@ -63,7 +94,8 @@ double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, s
 }
 
 Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
-                            ParallelRunner& runner, double texel_tolerance, Progress* progress) {
+                            ParallelRunner& runner, double texel_tolerance, Progress* progress,
+                            const HiddenTest& hidden) {
     Lightmaps lightmaps;
     lightmaps.layout = std::move(layout);
     for (const LightmapAtlas& atlas : lightmaps.layout.atlases) {
@@ -75,8 +107,9 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
         lightmaps.images.push_back(std::move(image));
     }
     const AdaptiveCounts counts =
-        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner, progress);
+        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner, progress, hidden);
     lightmaps.covered_texels = counts.covered;
+    lightmaps.hidden_texels = counts.hidden;
     lightmaps.evaluated_texels = counts.evaluated;
     lightmaps.interpolated_texels = counts.interpolated;
     lightmaps.required_texels = counts.required;
@@ -147,8 +180,11 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts 
         return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world)
                      : probeIrradiance(solution, at.p_world, at.normal_world, at.mesh);
     };
-    lightmaps =
-        evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance, progress);
+    const HiddenTest hidden = [&](const SurfacePoint& at) {
+        return solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);
+    };
+    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance,
+                                  progress, hidden);
     if (runner.cancelled()) return false;
     if (progress) progress->update(kTexelShare);
     if (options.stitch_seams) stitchLightmaps(scene, lightmaps, irradiance, options.padding, runner, options.texel_tolerance);

@@ -16,6 +16,7 @@
 namespace radbake {
 
 struct Solution;
+class RayCaster;
 
 enum class TexelState : uint8_t { Empty = 0, Dilated = 1, Covered = 2 };
 
@@ -41,6 +42,7 @@ struct Lightmaps {
     LightmapLayout layout;
     std::vector<LightmapImage> images;  // one per atlas
     size_t covered_texels = 0;       // texels with geometry, each evaluated or interpolated
+    size_t hidden_texels = 0;        // texels with geometry whose point is inside geometry: dilated instead
     size_t evaluated_texels = 0;     // irradiance evaluations at texel sample points
     size_t interpolated_texels = 0;  // covered texels interpolated (LightmapOptions::texel_tolerance)
     size_t required_texels = 0;      // texels evaluated whatever the light (chart edges; 0 at tolerance 0)
@@ -58,6 +60,18 @@ struct SurfacePoint {
 // for the exhaustive reference).
 using IrradianceFunction = std::function<DVec3(const SurfacePoint& at)>;
 
+// True where a texel's sample point is hidden inside geometry (under a block standing on the
+// floor): its light is never seen, and bilinear lookups beside the contact would mix its
+// darkness into the lit texels beside it, so it is left to dilation from its valid neighbours.
+using HiddenTest = std::function<bool(const SurfacePoint& at)>;
+
+// Inside closed geometry: the ray along the normal and more than half of kHiddenRays fixed
+// hemisphere rays (the normal's among them) first meet the back of a one-sided surface. A
+// point that sees a back only along its normal (the outside of a one-sided room) is kept; the
+// normal ray alone decides for most points, so the cost is about one ray a texel.
+inline constexpr int kHiddenRays = 16;
+bool insideGeometry(const Scene& scene, const RayCaster& rays, const DVec3& p, const DVec3& normal);
+
 // Where a texel is evaluated: the centroid of the largest piece of the chart's faces inside
 // the texel square (a convex piece of one triangle, so the point lies on the surface, never
 // in a gap of the chart or beyond its edge). False when the texel covers no geometry.
@@ -68,14 +82,16 @@ bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane, 
 // cover (0 when none; 1 up to rounding inside the chart).
 double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, size_t& face);
 
-// Fills every covered texel (value = H / pi) and dilates, on the runner's threads.
+// Fills every covered texel (value = H / pi) and dilates, on the runner's threads. Texels
+// `hidden` (when given) finds inside geometry are filled by the dilation instead.
 // texel_tolerance <= 0 evaluates every covered texel; above 0, smooth blocks of texels are
 // interpolated from evaluated ones within that relative tolerance (lightmap_adaptive.h).
 // Each texel writes its own slot, so the images do not depend on the thread count.
 Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
-                            ParallelRunner& runner, double texel_tolerance = 0.0, Progress* progress = nullptr);
+                            ParallelRunner& runner, double texel_tolerance = 0.0, Progress* progress = nullptr,
+                            const HiddenTest& hidden = {});
 
-// Fills Empty texels inside each chart's padded rectangle from their filled 8-neighbours
+// Fills Empty texels (padding, and texels hidden inside geometry) inside each chart's padded rectangle from their filled 8-neighbours
 // (the average of those filled in the previous pass), pass after pass until the rectangle
 // is full; texels of one chart never take light from another chart.
 void dilateLightmaps(Lightmaps& lightmaps, int padding);

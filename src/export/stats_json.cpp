@@ -84,6 +84,7 @@ std::string formatStatsJson(const BakeReport& r) {
         out["atlas_texels"] = l.atlas_texels;
         out["covered_texels"] = l.covered_texels;
         out["interpolated_texels"] = l.interpolated_texels;
+        out["hidden_texels"] = l.hidden_texels;
         out["texel_tolerance"] = l.texel_tolerance;
         out["occupancy"] = l.occupancy;
     }

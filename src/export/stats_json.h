@@ -24,6 +24,7 @@ struct LightmapReport {
     size_t atlas_texels = 0;       // texels of every atlas together
     size_t covered_texels = 0;     // texels with geometry (the rest is padding or empty)
     size_t interpolated_texels = 0;  // covered texels interpolated from evaluated ones (--texel-tolerance)
+    size_t hidden_texels = 0;      // texels with geometry inside other geometry (under a block), dilated
     double texel_tolerance = 0.0;
     double occupancy = 0.0;        // chart texels (padding excluded) / atlas texels
 };

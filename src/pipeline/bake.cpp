@@ -105,6 +105,7 @@ void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& opti
         report.atlas_texels += static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
     report.covered_texels = baked.lightmaps.covered_texels;
     report.interpolated_texels = baked.lightmaps.interpolated_texels;
+    report.hidden_texels = baked.lightmaps.hidden_texels;
     report.texel_tolerance = options.texel_tolerance;
     report.occupancy = layout.occupancy;
 }

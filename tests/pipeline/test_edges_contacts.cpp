@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "bake/lightmap_mesh.h"
+#include "bake/lightmap_seams.h"
 #include "export/mesh_attributes.h"
 #include "radbake.h"
 #include "radiosity/form_factor.h"
@@ -314,4 +316,74 @@ TEST_CASE("floor vertices where blocks' feet cross its tiles read near the exhau
     CHECK(vertices.worst < 0.35);
     MESSAGE("floor vertices against the exhaustive gather: worst " << vertices.worst << ", rms " << vertices.rms()
                                                                    << " of " << vertices.count);
+}
+
+// A block standing on a lit floor, lightmapped at 64 texels/m (1.6 cm texels): floor texels
+// whose point lies under the block are hidden (dilated from their lit neighbours), the rest
+// are evaluated, against the footprint's geometry; and the lightmap looked up at lit floor
+// vertices beside the block's foot (where bilinear lookup reaches texels under the block)
+// agrees with the exhaustive gather there.
+TEST_CASE("lightmap texels under a block standing on the floor are hidden and do not darken the lit floor beside it") {
+    TempDir dir;
+    const double angle = 0.3, half = 0.15;
+    const DVec2 centre(0.5, 0.5);
+    const std::string scene =
+        "#VRML V2.0 utf8\n" + gridShape("diffuseColor 0.75 0.75 0.75", {0, 0, 1}, {1, 0, 0}, {0, 0, -1}, 32) +
+        gridShape("diffuseColor 0 0 0 emissiveColor 1 1 1", {-0.5, 1, -0.5}, {2, 0, 0}, {0, 0, 2}, 4) +
+        "Transform { translation 0.5 0.15 0.5 rotation 0 1 0 " + std::to_string(angle) + " children Shape {\n"
+        " appearance Appearance { material Material { diffuseColor 0.5 0.5 0.5 } } geometry Box { size 0.3 0.3 0.3 } } }\n";
+    BakeOptions options = BakeOptions::forQuality(Quality::Medium);
+    options.lightmaps.texels_per_unit = 64.0;
+    options.threading.threads = 2;
+    Progress progress(false);
+    Diagnostics diagnostics;
+    const Bake baked = bake(testfs::writeText(dir, "block_on_floor.wrl", scene), options, progress, diagnostics);
+    REQUIRE(std::string(toString(baked.status)) == "ok");
+    REQUIRE(baked.lightmaps);
+    const Lightmaps& lightmaps = baked.lightmaps->lightmaps;
+    // Signed distance outside the block's footprint (negative inside), in the floor's x-z plane.
+    const auto outside = [&](const DVec3& p) {
+        const DVec2 d(p.x - centre.x, p.z - centre.y);
+        // VRML rotation about +y by angle: the box's local x axis is (cos, -sin) in x-z.
+        const DVec2 local(std::cos(angle) * d.x - std::sin(angle) * d.y, std::sin(angle) * d.x + std::cos(angle) * d.y);
+        return std::max(std::abs(local.x), std::abs(local.y)) - half;
+    };
+    const double texel = 1.0 / 64.0;
+    size_t under = 0, hidden_under = 0, lit = 0, hidden_lit = 0;
+    for (const LightmapChart& chart : lightmaps.layout.charts) {
+        if (chart.mesh != 0) continue;  // the floor
+        const LightmapImage& image = lightmaps.images[chart.atlas];
+        for (int j = 0; j < chart.height; ++j)
+            for (int i = 0; i < chart.width; ++i) {
+                DVec2 p_plane;
+                size_t face = 0;
+                if (!texelSamplePoint(chart, i, j, p_plane, face)) continue;
+                const double d = outside(chart.faces[face].worldPoint(p_plane));
+                const bool hidden =
+                    image.state[static_cast<size_t>(chart.y + j) * image.width + chart.x + i] == TexelState::Dilated;
+                if (d < -1e-3) under += 1, hidden_under += hidden;
+                if (d > 1e-3) lit += 1, hidden_lit += hidden;
+            }
+    }
+    CHECK(under > 300);  // 0.09 m^2 at 64 texels/m: about 370
+    CHECK(hidden_under == under);
+    CHECK(hidden_lit == 0);
+    CHECK(lightmaps.hidden_texels >= under);
+    CHECK(lightmaps.hidden_texels <= under + 4 * 0.3 * 64 + 4);  // at most the texels the footprint's outline crosses
+
+    const LightmapMesh uv_mesh = lightmapMeshes(*baked.scene, lightmaps.layout)[0];
+    ErrorTally beside;
+    for (size_t v = 0; v < uv_mesh.positions.size(); ++v) {
+        const DVec3 p(uv_mesh.positions[v]);
+        const double d = outside(p);
+        if (d < 0.2 * texel || d > 2.0 * texel) continue;
+        const LightmapImage& image = lightmaps.images[uv_mesh.atlas[v]];
+        const DVec2 at(uv_mesh.uv[v].x * image.width, uv_mesh.uv[v].y * image.height);
+        const double expected = probeIrradiance(*baked.solution, p, {0, 1, 0}, 0).x / kPi;
+        beside.add(bilinearLookup(image, at).x, expected);
+    }
+    CHECK(beside.count >= 8);
+    CHECK(beside.worst < 0.08);
+    MESSAGE("lightmap beside the block's foot against the exhaustive gather: worst " << beside.worst << ", rms "
+                                                                                     << beside.rms() << " of " << beside.count);
 }
