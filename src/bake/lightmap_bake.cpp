@@ -53,15 +53,14 @@ bool insideGeometry(const Scene& scene, const RayCaster& rays, const DVec3& p, c
     tangentFrame(normal, u, v);
     // The normal's ray and kHiddenRays - 1 more on a golden-angle spiral, uniform in cos(theta)
     // over (0, 1): fixed directions, so the answer is deterministic.
-    int backs = 1;
     for (int k = 1; k < kHiddenRays; ++k) {
         const double cos_theta = 1.0 - (k - 0.5) / (kHiddenRays - 1);
         const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
         const double phi = 2.39996322972865332 * k;
         const DVec3 direction = cos_theta * normal + sin_theta * (std::cos(phi) * u + std::sin(phi) * v);
-        backs += hitsBack(scene, rays, p, direction) ? 1 : 0;
+        if (!hitsBack(scene, rays, p, direction)) return false;
     }
-    return 2 * backs > kHiddenRays;
+    return true;
 }
 
 bool texelSamplePoint(const LightmapChart& chart, int i, int j, DVec2& p_plane) {

@@ -65,9 +65,9 @@ using IrradianceFunction = std::function<DVec3(const SurfacePoint& at)>;
 // darkness into the lit texels beside it, so it is left to dilation from its valid neighbours.
 using HiddenTest = std::function<bool(const SurfacePoint& at)>;
 
-// Inside closed geometry: the ray along the normal and more than half of kHiddenRays fixed
-// hemisphere rays (the normal's among them) first meet the back of a one-sided surface. A
-// point that sees a back only along its normal (the outside of a one-sided room) is kept; the
+// Inside closed geometry: every one of kHiddenRays fixed hemisphere rays (the normal's first)
+// meets the back of a one-sided surface. Not all: the ceiling just above a one-sided lamp sees
+// the lamp's back along most rays but the room past its edge, and is lit through that gap. The
 // normal ray alone decides for most points, so the cost is about one ray a texel.
 inline constexpr int kHiddenRays = 16;
 bool insideGeometry(const Scene& scene, const RayCaster& rays, const DVec3& p, const DVec3& normal);
