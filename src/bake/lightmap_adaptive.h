@@ -37,8 +37,8 @@ struct AdaptiveCounts {
 
 // Fills the covered texels of every placed chart (state Covered, value H / pi) and leaves
 // the rest Empty; texels whose sample point `hidden` (when given) finds inside geometry are
-// left Empty too, and count as not covered for the blocks around them. tolerance <= 0: every covered texel is evaluated, exactly as
-// evaluateLightmaps always did. Decisions depend only on evaluated values and run level by
+// left Empty too, and count as not covered for the blocks around them. tolerance <= 0: every
+// covered texel is evaluated, exactly as evaluateLightmaps always did. Decisions depend only on evaluated values and run level by
 // level; each evaluation writes its own slot: the result does not depend on the runner's
 // thread count. A cancelled runner leaves texels unevaluated (the caller discards them).
 // `progress`, when given, moves from 0 to kTexelShare as texels are evaluated.

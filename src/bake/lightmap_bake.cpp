@@ -7,9 +7,9 @@
 
 #include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_seams.h"
+#include "geometry/polygon.h"
 #include "radiosity/reconstruct.h"
 #include "radiosity/solution.h"
-#include "geometry/polygon.h"
 #include "visibility/ray_caster.h"
 
 namespace radbake {

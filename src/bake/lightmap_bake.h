@@ -66,9 +66,9 @@ using IrradianceFunction = std::function<DVec3(const SurfacePoint& at)>;
 using HiddenTest = std::function<bool(const SurfacePoint& at)>;
 
 // Inside closed geometry: every one of kHiddenRays fixed hemisphere rays (the normal's first)
-// meets the back of a one-sided surface. Not all: the ceiling just above a one-sided lamp sees
-// the lamp's back along most rays but the room past its edge, and is lit through that gap. The
-// normal ray alone decides for most points, so the cost is about one ray a texel.
+// meets the back of a one-sided surface. Every ray, not most: the ceiling just above a
+// one-sided lamp sees the lamp's back along most rays but the room past its edge, and is lit
+// through that gap. The normal ray alone decides for most points: about one ray a texel.
 inline constexpr int kHiddenRays = 16;
 bool insideGeometry(const Scene& scene, const RayCaster& rays, const DVec3& p, const DVec3& normal);
 
@@ -91,9 +91,9 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
                             ParallelRunner& runner, double texel_tolerance = 0.0, Progress* progress = nullptr,
                             const HiddenTest& hidden = {});
 
-// Fills Empty texels (padding, and texels hidden inside geometry) inside each chart's padded rectangle from their filled 8-neighbours
-// (the average of those filled in the previous pass), pass after pass until the rectangle
-// is full; texels of one chart never take light from another chart.
+// Fills Empty texels (padding, and texels hidden inside geometry) inside each chart's padded
+// rectangle from their filled 8-neighbours (the average of those filled in the previous pass),
+// pass after pass until the rectangle is full; texels of one chart never take light from another chart.
 void dilateLightmaps(Lightmaps& lightmaps, int padding);
 
 // A scene's charts at one density, built once (unplaced): the texel budget builds them
