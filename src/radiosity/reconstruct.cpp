@@ -54,6 +54,9 @@ constexpr uint32_t kExactSeparableMembers = 64;
 // leaf's light: sum over pieces f (h / h_mean - 1) (B_mean - B_line). Exact (zero) where the
 // radiosity is uniform. Pieces: the leaf split three times (64 for a quad).
 constexpr int kEdgeCorrectionSplits = 3;
+// Further splits of the pieces nearest the point (each makes 3 more pieces): enough to go from
+// a 1/8 of a leaf down to a few lifts on a leaf 1e4 lifts across.
+constexpr size_t kEdgeNearSplits = 48;
 constexpr double kEdgeCorrectionShare = 0.01;
 constexpr int kLinkVisibilitySplits = 1;
 
@@ -269,22 +272,31 @@ DVec3 LinkReconstruction::irradianceUncorrected(uint32_t mesh, uint32_t triangle
     return evaluate(mesh, triangle, p_world, normal, nullptr, false);
 }
 
-DVec3 LinkReconstruction::edgeCorrectionAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
-                                           const DVec3& normal, const DVec3& h,
-                                           std::span<const SideLight> beside) const {
-    if (s_.options.edge_correction == EdgeCorrection::Off) return DVec3(0.0);
+DVec3 LinkReconstruction::EdgeTerms::correction(std::span<const SideLight> beside) const {
+    DVec3 sum(0.0);
+    for (const Face& f : faces) {
+        const SideLight* known = sideLightOf(beside, f.normal);
+        sum += f.weighted_mean - f.weight * (f.emission + f.reflectance * (known ? known->h : f.h_read));
+    }
+    return sum;
+}
+
+LinkReconstruction::EdgeTerms LinkReconstruction::edgeTermsAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                                              const DVec3& normal, const DVec3& h,
+                                                              std::span<const SideLight> beside) const {
+    if (s_.options.edge_correction == EdgeCorrection::Off) return {};
     // Shared: only faces beside that `beside` gives, so none unless it holds another plane.
     if (s_.options.edge_correction == EdgeCorrection::Shared &&
         std::none_of(beside.begin(), beside.end(), [&](const SideLight& l) {
             return glm::length(glm::cross(l.normal, normal)) > 1e-6;
         }))
-        return DVec3(0.0);
+        return {};
     const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
-    if (leaf == kNoElement) return DVec3(0.0);
+    if (leaf == kNoElement) return {};
     const Touched touched = touchedRoots(leaf, p_world);
-    if (touched.count < 2) return DVec3(0.0);
-    return edgeCorrection(leaf, p_world, normal, h, std::span<const uint32_t>(touched.roots.data(), touched.count),
-                          beside, nullptr);
+    if (touched.count < 2) return {};
+    return edgeTerms(leaf, p_world, p_world + gather::kLift * s_.scene_extent * touched.direction, normal, h,
+                     std::span<const uint32_t>(touched.roots.data(), touched.count), beside, nullptr);
 }
 
 LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, const DVec3& p_world) const {
@@ -313,9 +325,11 @@ LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, cons
     return t;
 }
 
-DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, const DVec3& normal, const DVec3& h,
-                                         std::span<const uint32_t> touched, std::span<const SideLight> side_light,
-                                         ProbeCounters* counters) const {
+LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const DVec3& p_world, const DVec3& lifted,
+                                                            const DVec3& normal, const DVec3& h,
+                                                            std::span<const uint32_t> touched,
+                                                            std::span<const SideLight> side_light,
+                                                            ProbeCounters* counters) const {
     const Solution& s = s_;
     const double lift = gather::kLift * s.scene_extent;
     const Element& own = s.elements[leaf];
@@ -337,7 +351,10 @@ DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, co
             continue;
         if (shared_only && !sideLightOf(side_light, other.normal)) continue;
         const DVec3 line = glm::normalize(axis);
-        const DVec3 origin = p_world + lift * (normal + other.normal);  // off both planes
+        // The form factors from where the gather reads them: off every plane the point touches
+        // (from off these two only, a room's corner saw a quarter of the hemisphere in each
+        // face beside, where the gather sees 3/8: the corner's correction was 2/3 of its due).
+        const DVec3& origin = lifted;
         // Every leaf of that face the point touches (on the border between two, both): one
         // chosen would make the correction jump with the rounding of the point.
         const size_t before = weights.size();
@@ -358,6 +375,23 @@ DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, co
                 for (const auto& piece : pieces)
                     for (auto& child : splitPolygon(piece)) next.push_back(std::move(child));
                 pieces = std::move(next);
+            }
+            // The form factor of a piece beside the point is concentrated within a few lifts of
+            // it, where the model's radiosity is B_line, not its value at the piece's centroid:
+            // pieces near the point are split on (about 3 more a level) until they are small
+            // against their distance or a few lifts across.
+            for (size_t i = 0, splits = 0; i < pieces.size() && splits < kEdgeNearSplits;) {
+                const DVec3 c = polygonCentroid(pieces[i]);
+                double radius = 0.0;
+                for (const DVec3& q : pieces[i]) radius = std::max(radius, glm::length(q - c));
+                if (radius > 4.0 * lift && glm::length(c - p_world) < 2.0 * radius) {
+                    std::vector<std::vector<DVec3>> children = splitPolygon(pieces[i]);
+                    pieces[i] = std::move(children.front());
+                    for (size_t k = 1; k < children.size(); ++k) pieces.push_back(std::move(children[k]));
+                    ++splits;
+                } else {
+                    ++i;
+                }
             }
             double area = 0.0, area_h = 0.0, weight = 0.0;
             std::vector<double> height(pieces.size()), f(pieces.size());
@@ -381,18 +415,22 @@ DVec3 LinkReconstruction::edgeCorrection(uint32_t leaf, const DVec3& p_world, co
     // What each face gets at this very point (uncorrected) is a second reconstruction there:
     // only where the correction could move the point's light by kEdgeCorrectionShare
     // (B_line lies between 0 and about B_mean).
-    if (!(potential > kEdgeCorrectionShare * maxChannel(h))) return DVec3(0.0);
-    DVec3 correction(0.0);
+    EdgeTerms terms;
+    if (!(potential > kEdgeCorrectionShare * maxChannel(h))) return terms;
     size_t w = 0;
     for (const auto& [r, count] : faces) {
         const uint32_t beside = leafBelow(r, p_world);
         const Element& b = s.elements[beside];
-        const SideLight* known = sideLightOf(side_light, b.normal);
-        const DVec3 h_beside = known ? known->h : evaluateLeaf(beside, p_world, b.normal, counters, false);
-        const DVec3 b_line = b.emission + b.reflectance * h_beside;
-        for (size_t k = 0; k < count; ++k, ++w) correction += weights[w].first * (weights[w].second - b_line);
+        EdgeTerms::Face face{.normal = b.normal, .weighted_mean = DVec3(0.0), .emission = b.emission,
+                             .reflectance = b.reflectance, .h_read = DVec3(0.0)};
+        if (!sideLightOf(side_light, b.normal)) face.h_read = evaluateLeaf(beside, p_world, b.normal, counters, false);
+        for (size_t k = 0; k < count; ++k, ++w) {
+            face.weight += weights[w].first;
+            face.weighted_mean += weights[w].first * weights[w].second;
+        }
+        terms.faces.push_back(face);
     }
-    return correction;
+    return terms;
 }
 
 DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal,
@@ -479,9 +517,10 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     }
     const DVec3 h = g.sum + separable;
     if (!edges || s.options.edge_correction != EdgeCorrection::On || touched.count < 2) return h;
-    return glm::max(DVec3(0.0), h + edgeCorrection(leaf, p_world, normal, h,
-                                                   std::span<const uint32_t>(touched.roots.data(), touched.count),
-                                                   {}, counters));
+    return glm::max(DVec3(0.0), h + edgeTerms(leaf, p_world, point, normal, h,
+                                              std::span<const uint32_t>(touched.roots.data(), touched.count), {},
+                                              counters)
+                                        .correction({}));
 }
 
 DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world,

@@ -69,8 +69,29 @@ public:
         DVec3 h;       // H there, uncorrected
     };
     DVec3 irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
+    // The correction is linear in what each face beside gets at the point: per face,
+    // sum over its touching leaves of w (B_mean - E - rho H_beside). Kept in that form, a
+    // caller that knows every face's H at the point (the vertex bake) can solve their mutual
+    // dependence: at a room's corner each face's H at the corner reads the two others, and
+    // one correction from their uncorrected H left the tessellated Cornell box's corners +6 %.
+    struct EdgeTerms {
+        struct Face {
+            DVec3 normal;          // of the face beside (its leaf at the point)
+            double weight = 0.0;   // sum of w over its touching leaves
+            DVec3 weighted_mean;   // sum of w B_mean
+            DVec3 emission, reflectance;  // of its leaf at the point
+            DVec3 h_read;          // its H at the point read through its own links (not in `beside`)
+        };
+        std::vector<Face> faces;
+        // The correction with the faces beside at the H `beside` gives (by normal), else h_read.
+        DVec3 correction(std::span<const SideLight> beside) const;
+    };
+    EdgeTerms edgeTermsAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                          const DVec3& h, std::span<const SideLight> beside) const;
     DVec3 edgeCorrectionAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                           const DVec3& h, std::span<const SideLight> beside) const;
+                           const DVec3& h, std::span<const SideLight> beside) const {
+        return edgeTermsAt(mesh, triangle, p_world, normal, h, beside).correction(beside);
+    }
 
 private:
     // The leaf holding the point when the point reads its links (on its front side), else
@@ -90,9 +111,10 @@ private:
         DVec3 direction{0.0};
     };
     Touched touchedRoots(uint32_t leaf, const DVec3& p_world) const;
-    DVec3 edgeCorrection(uint32_t leaf, const DVec3& p_world, const DVec3& normal, const DVec3& h,
-                         std::span<const uint32_t> touched, std::span<const SideLight> beside,
-                         ProbeCounters* counters) const;
+    // `lifted`: the point as the gather reads it (off the planes it touches).
+    EdgeTerms edgeTerms(uint32_t leaf, const DVec3& p_world, const DVec3& lifted, const DVec3& normal, const DVec3& h,
+                        std::span<const uint32_t> touched, std::span<const SideLight> beside,
+                        ProbeCounters* counters) const;
     // The leaf below element e that holds p_world (nearest child at each level).
     uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;
     struct PendingSource {
