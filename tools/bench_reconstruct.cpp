@@ -289,7 +289,8 @@ int main(int argc, char** argv) {
     std::atomic<size_t> texel_rays{0}, texel_form_factors{0};
     const IrradianceFunction fast = [&](const SurfacePoint& at) {
         ProbeCounters counters;
-        const DVec3 h = links.irradianceCounted(at.mesh, at.triangle, at.p_world, at.normal_world, counters);
+        const DVec3 h = links.irradianceCounted(at.mesh, at.triangle, at.p_world, at.normal_world, counters,
+                                                LinkReconstruction::Reading::Texel);
         texel_rays += counters.rays;
         texel_form_factors += counters.form_factors;
         return h;

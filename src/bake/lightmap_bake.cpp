@@ -176,7 +176,8 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts 
     std::optional<LinkReconstruction> links;
     if (options.texel_tolerance > 0.0) links.emplace(solution, runner);
     const IrradianceFunction irradiance = [&](const SurfacePoint& at) {
-        return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world)
+        return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world,
+                                         LinkReconstruction::Reading::Texel)
                      : probeIrradiance(solution, at.p_world, at.normal_world, at.mesh);
     };
     const HiddenTest hidden = [&](const SurfacePoint& at) {

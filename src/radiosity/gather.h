@@ -100,8 +100,16 @@ struct Gatherer {
     // the part of it above the probe's horizon: the part its form factor integrates. (Rays
     // to the part below pass through the probe's own surface: a lamp just under a ceiling
     // read the tops of the walls as blocked and came out 4 % dark.) Returns the open count
-    // in `open` and the ray count in `total`.
-    void castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total) {
+    // in `open` and the ray count in `total`, and in `visible` the open share of the form
+    // factor: each ray weighted by the point-to-point kernel cos cos / d^2 at its end. The
+    // kernel varies most over exactly the pieces a point sees past a nearby edge: the ceiling
+    // above the tessellated Cornell box's lamp sees the walls' tops through a 1 cm gap, where
+    // the lamp hides the lower part of each piece, which the ceiling's cosine weights most;
+    // counted alike, those 8 vertices read +14 % (a cosine-sampled gather of the same
+    // solution +1 %).
+    std::vector<double> weights{};
+    void castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total,
+                        double& visible) {
         const int n = std::max(2, s.options.probe_samples);
         bool below = false;
         for (const DVec3& v : loop) below = below || !(glm::dot(normal, v - point) > 0.0);
@@ -113,9 +121,22 @@ struct Gatherer {
         } else {
             elementPoints(loop, n, points);
         }
+        weights.resize(points.size());
+        double weight_sum = 0.0;
+        for (size_t k = 0; k < points.size(); ++k) {
+            const DVec3 v = points[k] - point;
+            const double d2 = glm::dot(v, v);
+            weights[k] = d2 > 0.0 ? std::max(0.0, glm::dot(normal, v)) * std::max(0.0, -glm::dot(loop_normal, v)) /
+                                        (d2 * d2)
+                                  : 0.0;
+            weight_sum += weights[k];
+        }
         for (DVec3& q : points) q += lift * loop_normal;
-        open = static_cast<int>(s.rays->countOpenFrom(origin, points));
+        double open_weight = 0.0;
+        open = static_cast<int>(s.rays->countOpenFrom(origin, points, weights, open_weight));
         total = static_cast<int>(points.size());
+        // No kernel at any sample (a piece edge-on): count them alike.
+        visible = weight_sum > 0.0 ? open_weight / weight_sum : total > 0 ? double(open) / total : 0.0;
         if (counters) counters->rays += points.size();
     }
 
@@ -150,7 +171,8 @@ struct Gatherer {
             return;
         }
         int open = 0, total = 0;
-        castVisibility(loop, loop_normal, open, total);
+        double visible = 0.0;
+        castVisibility(loop, loop_normal, open, total, visible);
         const bool partial = open > 0 && open < total;
         if (partial) suspect = kSuspectLevels;
         // Neither rule can split past these limits: skip the piece's geometry then.
@@ -177,7 +199,7 @@ struct Gatherer {
             }
         }
         if (counters) ++counters->pieces;
-        sum += f * (total > 0 ? static_cast<double>(open) / total : 0.0) * b;
+        sum += f * visible * b;
     }
 
     // An inner element read whole brings f B with B its leaves' area mean, where the light is
@@ -232,13 +254,13 @@ struct Gatherer {
             return;
         }
         int open = 0, total = 0;
-        castVisibility(poly.vertices, e.normal, open, total);
+        double visible = 0.0;
+        castVisibility(poly.vertices, e.normal, open, total, visible);
         if (open > 0 && open < total && !fineEnough(e.centroid, e.radius, coarse)) {
             // Partly hidden: the children carry their own radiosity, so open them.
             for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
             return;
         }
-        const double visible = total > 0 ? static_cast<double>(open) / total : 0.0;
         if (varies && visible > 0.0) {
             // Its rays settled its visibility: its children bring their own light with it.
             const DVec3 before = sum;

@@ -296,7 +296,8 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTermsAt(uint32_t mesh, uin
     const Touched touched = touchedRoots(leaf, p_world);
     if (touched.count < 2) return {};
     return edgeTerms(leaf, p_world, p_world + gather::kLift * s_.scene_extent * touched.direction, normal, h,
-                     std::span<const uint32_t>(touched.roots.data(), touched.count), beside, nullptr);
+                     std::span<const uint32_t>(touched.roots.data(), touched.count), beside,
+                     s_.options.edge_correction == EdgeCorrection::Shared, nullptr);
 }
 
 LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, const DVec3& p_world) const {
@@ -328,12 +329,11 @@ LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, cons
 LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const DVec3& p_world, const DVec3& lifted,
                                                             const DVec3& normal, const DVec3& h,
                                                             std::span<const uint32_t> touched,
-                                                            std::span<const SideLight> side_light,
+                                                            std::span<const SideLight> side_light, bool beside_only,
                                                             ProbeCounters* counters) const {
     const Solution& s = s_;
     const double lift = gather::kLift * s.scene_extent;
     const Element& own = s.elements[leaf];
-    const bool shared_only = s.options.edge_correction == EdgeCorrection::Shared;
     std::vector<std::pair<uint32_t, size_t>> faces;  // touched concave neighbour root, its leaves' count
     std::vector<std::pair<double, DVec3>> weights;   // per touching leaf: weight, B_mean
     double potential = 0.0;
@@ -349,7 +349,7 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
         if (!(std::abs(glm::dot(other.normal, p_world - other_polygon.vertices[0])) < lift) ||
             !(pointPolygonDistance(p_world, other_polygon) < lift))
             continue;
-        if (shared_only && !sideLightOf(side_light, other.normal)) continue;
+        if (beside_only && !sideLightOf(side_light, other.normal)) continue;
         const DVec3 line = glm::normalize(axis);
         // The form factors from where the gather reads them: off every plane the point touches
         // (from off these two only, a room's corner saw a quarter of the hemisphere in each
@@ -516,21 +516,34 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
         pending_light -= p.light;
     }
     const DVec3 h = g.sum + separable;
-    if (!edges || s.options.edge_correction != EdgeCorrection::On || touched.count < 2) return h;
+    if (!edges || touched.count < 2) return h;
     return glm::max(DVec3(0.0), h + edgeTerms(leaf, p_world, point, normal, h,
                                               std::span<const uint32_t>(touched.roots.data(), touched.count), {},
-                                              counters)
+                                              false, counters)
                                         .correction({}));
 }
 
-DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
-                                     const DVec3& normal) const {
-    return evaluate(mesh, triangle, p_world, normal, nullptr, true);
+namespace {
+
+// Whether a point read as `reading` takes the edge correction under `mode`. Texels at Shared:
+// the tessellated Cornell box's lightmap (64 texels/m) looked up at its vertices read its room
+// corners +9 % and edges +1.5 % without it, 2.11 % RMS in all; with it 1.64 %, for 7 % more
+// lightmap time (only texels on an edge pay).
+bool correctsEdges(EdgeCorrection mode, LinkReconstruction::Reading reading) {
+    return mode == EdgeCorrection::On ||
+           (mode == EdgeCorrection::Shared && reading == LinkReconstruction::Reading::Texel);
+}
+
+}  // namespace
+
+DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                                     Reading reading) const {
+    return evaluate(mesh, triangle, p_world, normal, nullptr, correctsEdges(s_.options.edge_correction, reading));
 }
 
 DVec3 LinkReconstruction::irradianceCounted(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
-                                            const DVec3& normal, ProbeCounters& counters) const {
-    return evaluate(mesh, triangle, p_world, normal, &counters, true);
+                                            const DVec3& normal, ProbeCounters& counters, Reading reading) const {
+    return evaluate(mesh, triangle, p_world, normal, &counters, correctsEdges(s_.options.edge_correction, reading));
 }
 
 }  // namespace radbake

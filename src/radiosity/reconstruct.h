@@ -44,12 +44,16 @@ public:
     // cluster light per root): the solution must outlive it and stay unchanged.
     LinkReconstruction(const Solution& solution, ParallelRunner& runner);
 
+    // What a point is, for the edge correction: EdgeCorrection::Shared corrects lightmap texels
+    // (an output, few of them on an edge) but not probes.
+    enum class Reading { Probe, Texel };
     // H (W/m^2) at p_world, a point of triangle `triangle` of Scene::meshes[mesh], on the side
     // `normal` faces (unit; the triangle's normal). Where the triangle has no element
     // (degenerate) or faces the other way: probeIrradiance. Thread-safe, deterministic.
-    DVec3 irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
+    DVec3 irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
+                     Reading reading = Reading::Probe) const;
     DVec3 irradianceCounted(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                            ProbeCounters& counters) const;
+                            ProbeCounters& counters, Reading reading = Reading::Probe) const;
 
     // The leaf element holding p_world on that triangle (kNoElement: none); ties go to the
     // first element in order.
@@ -60,7 +64,7 @@ public:
     // to it. A face beside the point whose normal is one of `beside`'s takes that H
     // (uncorrected, read at this point) instead of being read once more through its own links;
     // with EdgeCorrection::Shared only those faces are corrected for, with Off none.
-    // irradiance() = max(0, uncorrected + correction) without `beside`, at On only.
+    // irradiance() = max(0, uncorrected + correction) without `beside`, at On (texels: and Shared).
     // Normals closer than this (1 - cos) are one plane: a SideLight stands for the face beside
     // of its normal, and the vertex bake groups a point's faces by it.
     static constexpr double kSameNormal = 1e-6;
@@ -111,9 +115,10 @@ private:
         DVec3 direction{0.0};
     };
     Touched touchedRoots(uint32_t leaf, const DVec3& p_world) const;
-    // `lifted`: the point as the gather reads it (off the planes it touches).
+    // `lifted`: the point as the gather reads it (off the planes it touches); `beside_only`:
+    // only the faces `beside` gives.
     EdgeTerms edgeTerms(uint32_t leaf, const DVec3& p_world, const DVec3& lifted, const DVec3& normal, const DVec3& h,
-                        std::span<const uint32_t> touched, std::span<const SideLight> beside,
+                        std::span<const uint32_t> touched, std::span<const SideLight> beside, bool beside_only,
                         ProbeCounters* counters) const;
     // The leaf below element e that holds p_world (nearest child at each level).
     uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;

@@ -474,13 +474,13 @@ size_t RayCaster::triangleCount() const { return impl_->triangle_count; }
 
 bool RayCaster::segmentBlocked(const DVec3& from, const DVec3& to) const { return impl_->occluded(from, to); }
 
-size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to) const {
+template <class Open>
+void RayCaster::forOpenFrom(const DVec3& from, std::span<const DVec3> to, Open&& open) const {
     constexpr size_t kLanes = 4;
     const Impl& impl = *impl_;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     const DVec3 from_local = from - impl.origin;
-    size_t open = 0;
     for (size_t first = 0; first < to.size(); first += kLanes) {
         RTCRay4 packet;
         alignas(16) int valid[kLanes];
@@ -488,12 +488,28 @@ size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to) co
             const size_t k = first + lane;
             const bool used = k < to.size();
             const DVec3 delta = used ? to[k] - from : DVec3(0.0);
-            if (!setSegmentLane(packet, valid, lane, from_local, delta, impl.epsilon, used) && used) ++open;
+            if (!setSegmentLane(packet, valid, lane, from_local, delta, impl.epsilon, used) && used) open(k);
         }
         rtcOccluded4(valid, impl.scene, &context, &packet);
         for (size_t lane = 0; lane < kLanes; ++lane)
-            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity()) ++open;
+            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity()) open(first + lane);
     }
+}
+
+size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to) const {
+    size_t open = 0;
+    forOpenFrom(from, to, [&](size_t) { ++open; });
+    return open;
+}
+
+size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to, std::span<const double> weight,
+                                double& open_weight) const {
+    size_t open = 0;
+    open_weight = 0.0;
+    forOpenFrom(from, to, [&](size_t k) {
+        ++open;
+        open_weight += weight[k];
+    });
     return open;
 }
 

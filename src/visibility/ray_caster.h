@@ -63,6 +63,9 @@ public:
     // segmentBlocked() judges it (same ends, same epsilon), cast as packets of 4 rays: a probe
     // casts a few segments from one point to each element it gathers from.
     size_t countOpenFrom(const DVec3& from, std::span<const DVec3> to) const;
+    // The same, and the sum of weight[k] over the open segments in `open_weight`.
+    size_t countOpenFrom(const DVec3& from, std::span<const DVec3> to, std::span<const double> weight,
+                         double& open_weight) const;
 
     // Back twins (scene/two_sided.h) are not in the structure: their front blocks for both
     // sides. closestHit reports a hit on a two-sided front from behind as the back twin's
@@ -108,6 +111,9 @@ public:
 
 private:
     explicit RayCaster(std::unique_ptr<Impl> impl);
+    // open(k) for every segment from -> to[k] that is not blocked (countOpenFrom's judgement).
+    template <class Open>
+    void forOpenFrom(const DVec3& from, std::span<const DVec3> to, Open&& open) const;
     std::unique_ptr<Impl> impl_;
 };
 
