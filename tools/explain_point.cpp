@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <string>
 
 #include "radbake.h"
@@ -19,7 +20,7 @@ using namespace radbake;
 
 int main(int argc, char** argv) {
     if (argc < 9) {
-        std::fprintf(stderr, "usage: explain_point SCENE MESH X Y Z NX NY NZ [--quality Q] [--threads N]\n");
+        std::fprintf(stderr, "usage: explain_point SCENE MESH X Y Z NX NY NZ [--quality Q] [--threads N] [--rays N]\n");
         return 2;
     }
     const std::string path = argv[1];
@@ -28,10 +29,12 @@ int main(int argc, char** argv) {
     const DVec3 n = glm::normalize(DVec3(std::atof(argv[6]), std::atof(argv[7]), std::atof(argv[8])));
     std::string quality = "medium";
     int threads = 0;
+    long mc_rays = 0;
     for (int i = 9; i + 1 < argc; i += 2) {
         const std::string key = argv[i];
         if (key == "--quality") quality = argv[i + 1];
         else if (key == "--threads") threads = std::atoi(argv[i + 1]);
+        else if (key == "--rays") mc_rays = std::atol(argv[i + 1]);
     }
     Diagnostics diagnostics;
     diagnostics.sink = [](const Diagnostic& d) {
@@ -120,5 +123,39 @@ int main(int argc, char** argv) {
     const DVec3 h_exhaustive = probeIrradiance(s, p, n, mesh_index);
     std::printf("H links %.5g %.5g %.5g\nH exhaustive %.5g %.5g %.5g\n", h_links.x, h_links.y, h_links.z,
                 h_exhaustive.x, h_exhaustive.y, h_exhaustive.z);
+    if (mc_rays > 0) {
+        // The same solution read with exact visibility: cosine-distributed rays from the point,
+        // each bringing the B of the leaf it meets (H = E[B]); per root against the exhaustive
+        // gather's share (green), to tell the solution's error from the gather's.
+        const double lift = gather::kLift * s.scene_extent;
+        const DVec3 point = gather::liftOffSurfaces(s, p, n, lift), o = point + lift * n;
+        const DVec3 t1 = glm::normalize(glm::cross(std::abs(n.x) < 0.9 ? DVec3(1, 0, 0) : DVec3(0, 1, 0), n));
+        const DVec3 t2 = glm::cross(n, t1);
+        DVec3 sum(0.0);
+        std::map<uint32_t, double> per_root;
+        uint64_t state = 12345;
+        const auto uniform = [&] {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            return double(state >> 11) / double(1ull << 53);
+        };
+        for (long i = 0; i < mc_rays; ++i) {
+            const double u1 = uniform(), u2 = uniform(), r = std::sqrt(u1), phi = 2.0 * kPi * u2;
+            const DVec3 d = r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(std::max(0.0, 1.0 - u1)) * n;
+            const auto hit = s.rays->closestHit(o, d, 1e30);
+            if (!hit) continue;
+            const uint32_t lf = links.leafAt(hit->triangle.mesh, hit->triangle.triangle, o + hit->t * d);
+            if (lf == kNoElement || !(glm::dot(s.elements[lf].normal, d) < 0.0)) continue;
+            sum += s.elements[lf].radiosity / double(mc_rays);
+            per_root[s.elements[lf].root] += s.elements[lf].radiosity.y / double(mc_rays);
+        }
+        for (const auto& [r, v] : per_root) {
+            gather::Gatherer g{.s = s, .point = point, .normal = n, .origin = o, .lift = lift, .use_rays = true};
+            g.visit(r);
+            if (v > 0.01 * sum.y || g.sum.y > 0.01 * sum.y)
+                std::printf("   root %u (centroid %.3f %.3f %.3f): rays %.4g, exhaustive %.4g (green)\n", r,
+                            s.elements[r].centroid.x, s.elements[r].centroid.y, s.elements[r].centroid.z, v, g.sum.y);
+        }
+        std::printf("H rays %.5g %.5g %.5g (%ld cosine rays)\n", sum.x, sum.y, sum.z, mc_rays);
+    }
     return 0;
 }
