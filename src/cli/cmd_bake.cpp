@@ -249,8 +249,8 @@ void addBakeCommand(CLI::App& app, int& result) {
     cmd->add_option("--edge-correction", args->edge_correction,
                     "Correct points on concave edges and corners for the darkening of the face beside them: "
                     "shared (the default at medium): output vertices where the faces beside have vertices too, "
-                    "at no measurable cost; on (high, reference): every such point, vertices, texels "
-                    "and probes, about 1.8 x the vertex time; off (draft)")
+                    "at no measurable cost, and lightmap texels on an edge; on (high, reference): every such "
+                    "point, vertices and probes too, about 1.8 x the vertex time; off (draft)")
         ->check(CLI::IsMember({"off", "shared", "on"}));
     cmd->add_option("--solution", args->solution_file,
                     "Reuse the radiosity solution saved in this file when the scene and solver settings are the "

@@ -109,8 +109,8 @@ struct Gatherer {
     // solution +1 %).
     std::vector<double> weights{};
     void castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total,
-                        double& visible) {
-        const int n = std::max(2, s.options.probe_samples);
+                        double& visible, int samples_per_side = 0) {
+        const int n = samples_per_side > 0 ? samples_per_side : std::max(2, s.options.probe_samples);
         bool below = false;
         for (const DVec3& v : loop) below = below || !(glm::dot(normal, v - point) > 0.0);
         if (below) {
@@ -121,21 +121,43 @@ struct Gatherer {
         } else {
             elementPoints(loop, n, points);
         }
-        weights.resize(points.size());
-        double weight_sum = 0.0;
-        for (size_t k = 0; k < points.size(); ++k) {
-            const DVec3 v = points[k] - point;
+        const auto kernel = [&](const DVec3& q) {
+            const DVec3 v = q - point;
             const double d2 = glm::dot(v, v);
-            weights[k] = d2 > 0.0 ? std::max(0.0, glm::dot(normal, v)) * std::max(0.0, -glm::dot(loop_normal, v)) /
-                                        (d2 * d2)
-                                  : 0.0;
+            return d2 > 0.0 ? std::max(0.0, glm::dot(normal, v)) * std::max(0.0, -glm::dot(loop_normal, v)) / (d2 * d2)
+                            : 0.0;
+        };
+        weights.resize(points.size());
+        double weight_sum = 0.0, weight_max = 0.0;
+        for (size_t k = 0; k < points.size(); ++k) {
+            weights[k] = kernel(points[k]);
             weight_sum += weights[k];
+            weight_max = std::max(weight_max, weights[k]);
+        }
+        // SolverOptions::probe_corner_rays: the corner where the kernel is highest (1/16 of the
+        // way in), if above every sample's, gets a ray that only tells whether the piece is
+        // partly hidden (then split): the lamp hides the bottom eighth of each wall tile the
+        // ceiling above the tessellated Cornell box's lamp sees through the 1 cm gap, below
+        // every 2 x 2 ray and where the ceiling's cosine weights most.
+        if (s.options.probe_corner_rays && !below && weight_max > 0.0) {
+            const DVec3 centroid = polygonCentroid(loop);
+            double corner_max = 0.0;
+            DVec3 corner_point(0.0);
+            for (const DVec3& c : loop) {
+                const DVec3 q = c + 0.0625 * (centroid - c);
+                const double w = kernel(q);
+                if (w > corner_max) corner_max = w, corner_point = q;
+            }
+            if (corner_max > weight_max) {
+                points.push_back(corner_point);
+                weights.push_back(0.0);  // not in the estimate
+            }
         }
         for (DVec3& q : points) q += lift * loop_normal;
         double open_weight = 0.0;
         open = static_cast<int>(s.rays->countOpenFrom(origin, points, weights, open_weight));
         total = static_cast<int>(points.size());
-        // No kernel at any sample (a piece edge-on): count them alike.
+        // No kernel at any sample (a piece edge-on, no corner ray then): count them alike.
         visible = weight_sum > 0.0 ? open_weight / weight_sum : total > 0 ? double(open) / total : 0.0;
         if (counters) counters->rays += points.size();
     }
@@ -198,6 +220,12 @@ struct Gatherer {
                 return;
             }
         }
+        // A shadow edge crosses the piece and no rule splits it further: with probe_corner_rays
+        // its visible share from twice the rays a side (2 x 2 rays read the bottom half of a
+        // tile split by its corner ray as half hidden where a quarter is: the ceiling above the
+        // lamp went from +14 % to -9 %, to +2 % with this).
+        if (partial && s.options.probe_corner_rays)
+            castVisibility(loop, loop_normal, open, total, visible, 2 * std::max(2, s.options.probe_samples));
         if (counters) ++counters->pieces;
         sum += f * visible * b;
     }

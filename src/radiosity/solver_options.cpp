@@ -41,6 +41,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_samples = 3;
             o.probe_visibility_ratio = 0.005;
             o.probe_visibility_coarse = 0.07;
+            o.probe_corner_rays = true;
             o.edge_correction = EdgeCorrection::On;
             break;
         case Quality::Reference:
@@ -58,6 +59,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_samples = 4;
             o.probe_visibility_ratio = 0.002;
             o.probe_visibility_coarse = 0.05;
+            o.probe_corner_rays = true;
             o.edge_correction = EdgeCorrection::On;
             break;
     }

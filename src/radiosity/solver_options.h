@@ -83,6 +83,13 @@ struct SolverOptions {
                                            // a leaf its polygon split, until radius / distance is below this
     double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
                                            // radius / distance, so a sliver of light is not lost between rays
+    // A piece's corner of highest kernel gets a ray of its own, and a piece found partly hidden
+    // that no rule splits further is cast again at twice the rays a side (gather.h,
+    // castVisibility): a shadow edge along a piece's border slips between its n x n rays. The
+    // ceiling above the tessellated Cornell box's lamp sees the walls' tops through a 1 cm gap:
+    // its 8 vertices +14 % without, +2 % with; about 2 x the rays of house.wrl's texels and
+    // vertices at medium, so on at high and reference only.
+    bool probe_corner_rays = false;
     // The tessellated Cornell box's output vertices (session 9): Off 2.08 % RMS, p95 3.43 %;
     // Shared 1.76 / 2.63 %, no measurable cost on house.wrl's vertices; On 1.68 / 2.39 %, 1.8 x
     // their time. Off at draft, Shared at medium, On at high and reference.
