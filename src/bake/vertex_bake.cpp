@@ -99,13 +99,7 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
 // once more through their own links instead, the correction cost about 2.4 x house.wrl's
 // vertex time, where most faces beside have no vertex at the point.
 // Each group's correction depends on the others' corrected H (a corner darkens each of its
-// faces, and each face's H there reads the others), so the groups are corrected together:
-// Jacobi steps from the uncorrected H until they settle. Each step contracts by at most the
-// faces' near form factor times their reflectance (0.75 x 0.75 at a room's corner), so
-// kCornerSteps leaves under 1e-3 of the first step's change there; one step left the
-// tessellated Cornell box's corners +6.4 %.
-constexpr int kCornerSteps = 12;
-
+// faces, and each face's H there reads the others): the groups are corrected together.
 void correctEdges(const LinkReconstruction& links, WeldedPoint& point) {
     std::vector<LinkReconstruction::SideLight> side;
     for (size_t g = 0; g < point.groups.size(); ++g) side.push_back({point.groups[g].normal, point.h[g]});
@@ -118,11 +112,8 @@ void correctEdges(const LinkReconstruction& links, WeldedPoint& point) {
     }
     if (!any) return;
     const std::vector<DVec3> uncorrected = point.h;
-    for (int step = 0; step < kCornerSteps; ++step) {
-        for (size_t g = 0; g < point.groups.size(); ++g)
-            point.h[g] = glm::max(DVec3(0.0), uncorrected[g] + terms[g].correction(side));
-        for (size_t g = 0; g < point.groups.size(); ++g) side[g].h = point.h[g];
-    }
+    LinkReconstruction::correctTogether(side, uncorrected, terms);
+    for (size_t g = 0; g < point.groups.size(); ++g) point.h[g] = side[g].h;
 }
 
 }  // namespace

@@ -422,7 +422,7 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
         const uint32_t beside = leafBelow(r, p_world);
         const Element& b = s.elements[beside];
         EdgeTerms::Face face{.normal = b.normal, .weighted_mean = DVec3(0.0), .emission = b.emission,
-                             .reflectance = b.reflectance, .h_read = DVec3(0.0)};
+                             .reflectance = b.reflectance, .h_read = DVec3(0.0), .leaf = beside};
         if (!sideLightOf(side_light, b.normal)) face.h_read = evaluateLeaf(beside, p_world, b.normal, counters, false);
         for (size_t k = 0; k < count; ++k, ++w) {
             face.weight += weights[w].first;
@@ -517,10 +517,42 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     }
     const DVec3 h = g.sum + separable;
     if (!edges || touched.count < 2) return h;
-    return glm::max(DVec3(0.0), h + edgeTerms(leaf, p_world, point, normal, h,
-                                              std::span<const uint32_t>(touched.roots.data(), touched.count), {},
-                                              false, counters)
-                                        .correction({}));
+    // The point's face and the faces beside it corrected together, as the vertex bake corrects
+    // the faces that have vertices at a point: each face beside's own terms at this point, among
+    // the faces already read (no further reads). One step from their uncorrected light read a
+    // tiled room's corners in the lightmap +6.3 % (test_edges_contacts).
+    std::vector<EdgeTerms> terms{edgeTerms(leaf, p_world, point, normal, h,
+                                           std::span<const uint32_t>(touched.roots.data(), touched.count), {}, false,
+                                           counters)};
+    if (terms[0].faces.empty()) return h;
+    std::vector<SideLight> sides{{normal, h}};
+    std::vector<DVec3> uncorrected{h};
+    for (const EdgeTerms::Face& f : terms[0].faces) {
+        sides.push_back({f.normal, f.h_read});
+        uncorrected.push_back(f.h_read);
+    }
+    for (size_t j = 0; j < terms[0].faces.size(); ++j) {
+        const EdgeTerms::Face& f = terms[0].faces[j];
+        const Touched t = touchedRoots(f.leaf, p_world);
+        // Each face's own touched planes and terms; only the faces in `sides` (beside_only).
+        terms.push_back(t.count < 2 ? EdgeTerms{}
+                                    : edgeTerms(f.leaf, p_world, p_world + lift * t.direction, f.normal, f.h_read,
+                                                std::span<const uint32_t>(t.roots.data(), t.count), sides, true,
+                                                counters));
+    }
+    correctTogether(sides, uncorrected, terms);
+    return sides[0].h;
+}
+
+void LinkReconstruction::correctTogether(std::span<SideLight> sides, std::span<const DVec3> uncorrected,
+                                         std::span<const EdgeTerms> terms) {
+    constexpr int kSteps = 12;  // under 1e-3 of the first step's change left at a room's corner
+    std::vector<DVec3> next(sides.size());
+    for (int step = 0; step < kSteps; ++step) {
+        for (size_t g = 0; g < sides.size(); ++g)
+            next[g] = glm::max(DVec3(0.0), uncorrected[g] + terms[g].correction(sides));
+        for (size_t g = 0; g < sides.size(); ++g) sides[g].h = next[g];
+    }
 }
 
 namespace {

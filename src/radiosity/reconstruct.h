@@ -85,11 +85,19 @@ public:
             DVec3 weighted_mean;   // sum of w B_mean
             DVec3 emission, reflectance;  // of its leaf at the point
             DVec3 h_read;          // its H at the point read through its own links (not in `beside`)
+            uint32_t leaf = 0;     // its leaf at the point
         };
         std::vector<Face> faces;
         // The correction with the faces beside at the H `beside` gives (by normal), else h_read.
         DVec3 correction(std::span<const SideLight> beside) const;
     };
+    // The faces that meet at a point corrected together: sides[g].h from uncorrected[g] plus
+    // terms[g]'s correction with the others at their corrected H, by Jacobi steps (each step
+    // contracts by at most the faces' near form factor times their reflectance, 0.75 x 0.75 at
+    // a room's corner; one step from the uncorrected H left the tessellated Cornell box's
+    // corners +6.4 %).
+    static void correctTogether(std::span<SideLight> sides, std::span<const DVec3> uncorrected,
+                                std::span<const EdgeTerms> terms);
     EdgeTerms edgeTermsAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                           const DVec3& h, std::span<const SideLight> beside) const;
     DVec3 edgeCorrectionAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
