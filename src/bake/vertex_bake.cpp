@@ -98,16 +98,33 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
 // from the other groups' H where they have vertices there (a room's edges and corners): read
 // once more through their own links instead, the correction cost about 2.4 x house.wrl's
 // vertex time, where most faces beside have no vertex at the point.
+// The direction into the group's faces at the point: the mean of the unit directions to its
+// triangles' centroids, in its plane (what tools/vertex_probes nudges a vertex's probe along).
+DVec3 interiorOf(const Scene& scene, const WeldedPoint& point, const Incident& group) {
+    DVec3 sum(0.0);
+    for (const Incident& f : point.faces) {
+        if (!(glm::dot(f.normal, group.normal) > 1.0 - kSameNormal)) continue;
+        const Mesh& mesh = scene.meshes[f.mesh];
+        const UVec3& t = mesh.triangles[f.triangle];
+        const DVec3 c = (DVec3(mesh.positions[t.x]) + DVec3(mesh.positions[t.y]) + DVec3(mesh.positions[t.z])) / 3.0;
+        DVec3 d = c - point.p;
+        d -= glm::dot(d, group.normal) * group.normal;
+        if (glm::length(d) > 0.0) sum += glm::normalize(d);
+    }
+    return glm::length(sum) > 1e-6 ? glm::normalize(sum) : DVec3(0.0);
+}
+
 // Each group's correction depends on the others' corrected H (a corner darkens each of its
 // faces, and each face's H there reads the others): the groups are corrected together.
-void correctEdges(const LinkReconstruction& links, WeldedPoint& point) {
+void correctEdges(const Scene& scene, const LinkReconstruction& links, WeldedPoint& point) {
     std::vector<LinkReconstruction::SideLight> side;
     for (size_t g = 0; g < point.groups.size(); ++g) side.push_back({point.groups[g].normal, point.h[g]});
     std::vector<LinkReconstruction::EdgeTerms> terms;
     bool any = false;
     for (size_t g = 0; g < point.groups.size(); ++g) {
         const Incident& group = point.groups[g];
-        terms.push_back(links.edgeTermsAt(group.mesh, group.triangle, point.p, group.normal, side[g].h, side));
+        terms.push_back(
+            links.edgeTermsAt(group.mesh, group.triangle, point.p, group.normal, side[g].h, side, interiorOf(scene, point, group)));
         any = any || !terms.back().faces.empty();
     }
     if (!any) return;
@@ -163,7 +180,7 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRu
             for (const Incident& g : point.groups)
                 point.h.push_back(links ? irradianceAt(solution, *links, point, g)
                                         : probeIrradiance(solution, point.p, g.normal, g.mesh));
-            if (links && solution.options.edge_correction != EdgeCorrection::Off) correctEdges(*links, point);
+            if (links && solution.options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
         }
         if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
     });

@@ -283,7 +283,8 @@ DVec3 LinkReconstruction::EdgeTerms::correction(std::span<const SideLight> besid
 
 LinkReconstruction::EdgeTerms LinkReconstruction::edgeTermsAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
                                                               const DVec3& normal, const DVec3& h,
-                                                              std::span<const SideLight> beside) const {
+                                                              std::span<const SideLight> beside,
+                                                              const DVec3& interior) const {
     if (s_.options.edge_correction == EdgeCorrection::Off) return {};
     // Shared: only faces beside that `beside` gives, so none unless it holds another plane.
     if (s_.options.edge_correction == EdgeCorrection::Shared &&
@@ -297,7 +298,7 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTermsAt(uint32_t mesh, uin
     if (touched.count < 2) return {};
     return edgeTerms(leaf, p_world, p_world + gather::kLift * s_.scene_extent * touched.direction, normal, h,
                      std::span<const uint32_t>(touched.roots.data(), touched.count), beside,
-                     s_.options.edge_correction == EdgeCorrection::Shared, nullptr);
+                     s_.options.edge_correction == EdgeCorrection::Shared, interior, nullptr);
 }
 
 LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, const DVec3& p_world) const {
@@ -330,7 +331,7 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
                                                             const DVec3& normal, const DVec3& h,
                                                             std::span<const uint32_t> touched,
                                                             std::span<const SideLight> side_light, bool beside_only,
-                                                            ProbeCounters* counters) const {
+                                                            const DVec3& interior, ProbeCounters* counters) const {
     const Solution& s = s_;
     const double lift = gather::kLift * s.scene_extent;
     const Element& own = s.elements[leaf];
@@ -423,7 +424,15 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
         const Element& b = s.elements[beside];
         EdgeTerms::Face face{.normal = b.normal, .weighted_mean = DVec3(0.0), .emission = b.emission,
                              .reflectance = b.reflectance, .h_read = DVec3(0.0), .leaf = beside};
-        if (!sideLightOf(side_light, b.normal)) face.h_read = evaluateLeaf(beside, p_world, b.normal, counters, false);
+        if (!sideLightOf(side_light, b.normal)) {
+            // Read where the point's own value is the limit from: a few lifts into its face
+            // along `interior` and off its plane, on the face beside (the floor before a block's
+            // foot, or, at its corner, before the foot a little way along it).
+            const DVec3 into = 10.0 * lift * (interior + normal);
+            const DVec3 q = p_world + into - glm::dot(into, b.normal) * b.normal;
+            const uint32_t at = glm::length(interior) > 0.0 ? leafBelow(r, q) : beside;
+            face.h_read = evaluateLeaf(at, glm::length(interior) > 0.0 ? q : p_world, b.normal, counters, false);
+        }
         for (size_t k = 0; k < count; ++k, ++w) {
             face.weight += weights[w].first;
             face.weighted_mean += weights[w].first * weights[w].second;
@@ -523,7 +532,7 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     // tiled room's corners in the lightmap +6.3 % (test_edges_contacts).
     std::vector<EdgeTerms> terms{edgeTerms(leaf, p_world, point, normal, h,
                                            std::span<const uint32_t>(touched.roots.data(), touched.count), {}, false,
-                                           counters)};
+                                           DVec3(0.0), counters)};
     if (terms[0].faces.empty()) return h;
     std::vector<SideLight> sides{{normal, h}};
     std::vector<DVec3> uncorrected{h};
@@ -538,7 +547,7 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
         terms.push_back(t.count < 2 ? EdgeTerms{}
                                     : edgeTerms(f.leaf, p_world, p_world + lift * t.direction, f.normal, f.h_read,
                                                 std::span<const uint32_t>(t.roots.data(), t.count), sides, true,
-                                                counters));
+                                                DVec3(0.0), counters));
     }
     correctTogether(sides, uncorrected, terms);
     return sides[0].h;

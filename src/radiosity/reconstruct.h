@@ -98,8 +98,11 @@ public:
     // corners +6.4 %).
     static void correctTogether(std::span<SideLight> sides, std::span<const DVec3> uncorrected,
                                 std::span<const EdgeTerms> terms);
+    // `interior`: the direction into the point's own face along which its value is the limit
+    // (unit, in its plane; zero: not known), where a face beside without a SideLight is read:
+    // at a block's convex corner the floor's light there depends on the way in.
     EdgeTerms edgeTermsAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                          const DVec3& h, std::span<const SideLight> beside) const;
+                          const DVec3& h, std::span<const SideLight> beside, const DVec3& interior = DVec3(0.0)) const;
     DVec3 edgeCorrectionAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                            const DVec3& h, std::span<const SideLight> beside) const {
         return edgeTermsAt(mesh, triangle, p_world, normal, h, beside).correction(beside);
@@ -127,7 +130,7 @@ private:
     // only the faces `beside` gives.
     EdgeTerms edgeTerms(uint32_t leaf, const DVec3& p_world, const DVec3& lifted, const DVec3& normal, const DVec3& h,
                         std::span<const uint32_t> touched, std::span<const SideLight> beside, bool beside_only,
-                        ProbeCounters* counters) const;
+                        const DVec3& interior, ProbeCounters* counters) const;
     // The leaf below element e that holds p_world (nearest child at each level).
     uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;
     struct PendingSource {
