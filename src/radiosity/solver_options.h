@@ -90,10 +90,11 @@ struct SolverOptions {
     // its 8 vertices +14 % without, +2 % with; about 2 x the rays of house.wrl's texels and
     // vertices at medium, so on at high and reference only.
     bool probe_corner_rays = false;
-    // The tessellated Cornell box's output vertices (session 9): Off 2.08 % RMS, p95 3.43 %;
-    // Shared 1.76 / 2.63 %, no measurable cost on house.wrl's vertices; On 1.68 / 2.39 %, 1.8 x
-    // their time. Off at draft, Shared at medium, On at high and reference.
-    EdgeCorrection edge_correction = EdgeCorrection::Shared;
+    // The tessellated Cornell box's output vertices (session 11, 65,536-path reference): Off
+    // 2.0 % RMS; Shared 1.50 %, p95 1.88 %, its blocks' feet uncorrected (+8 to +24 %); On 1.28 %,
+    // p95 1.75 %, feet within 6 % but for one corner, for 2.4 x house.wrl's vertex time (0.75 ->
+    // 1.8 s of a 33 s bake with lightmaps; texels cost the same in both). Off at draft, On above.
+    EdgeCorrection edge_correction = EdgeCorrection::On;
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
     // Links start between clusters of roots (cluster.h) instead of between every pair of
     // roots: linking in O(n log n) instead of O(n^2). Off: every facing pair of roots.
