@@ -13,6 +13,8 @@ promise (a few seconds in all).
   the lamp (reference_mc) is well above the lamp's direct light alone, which it would not be if
   walls faced outward (one-sided surfaces: a wall seen from behind is black);
 - vertex_error.py: exact figures on a literal bake and reference;
+- reference_topup.py: noisy probes get paths to the asked noise, the others keep their bytes,
+  estimates pool by path count;
 - lightmap_at_vertices: on a room lit by its ceiling, baked with lightmaps, the lightmap looked
   up at every vertex gives the bake's own vertex value (the .ply) within 2 % inside the walls
   (a lookup half a texel off, or with v up, does not), its rows are the probe file's positions,
@@ -220,6 +222,46 @@ def test_lightmap_at_vertices(radbake, vertex_probes, lightmap_at_vertices, tmp)
           "lightmap: a bad probe file: exit %d, %s" % (result.returncode, result.stderr.strip()))
 
 
+def test_reference_topup(reference_mc, tmp):
+    """On the tessellated box: two wall probes and two on the ceiling above its lamp (lit only
+    through a 1 cm gap, far noisier at one path count), topped up to 3 %: the dim ones get paths,
+    the rest keep their bytes, every lit probe ends within the asked noise (x 1.3: the noise is
+    itself estimated), and the pooling is the path-weighted mean."""
+    obj = os.path.join(tmp, "topup.obj")
+    run([sys.executable, os.path.join(HERE, "gen_cornell_tessellated.py"), obj])
+    probes = os.path.join(tmp, "topup.probes")
+    with open(probes, "w") as f:
+        f.write("# two on walls, two on the ceiling above the lamp\n0 0.5 0.5 1 0 0\n0.5 0.5 0 0 0 1\n"
+                "0.5625 1 0.5625 0 -1 0\n0.4375 1 0.4375 0 -1 0\n")
+    reference, topped = os.path.join(tmp, "ref.csv"), os.path.join(tmp, "topped.csv")
+    run([reference_mc, obj, probes, "--samples", "1024", "--threads", "2", "--seed", "1", "-o", reference])
+    run([sys.executable, os.path.join(HERE, "reference_topup.py"), obj, probes, reference, "--samples", "1024",
+         "--max-se", "0.03", "--lit", "median", "--threads", "2", "--reference-mc", reference_mc, "-o", topped])
+    import reference_topup  # noqa: E402 (here: the module is only needed by this test)
+    with open(reference) as f:
+        before_lines = f.read().splitlines()
+    with open(topped) as f:
+        after_lines = f.read().splitlines()
+    before, after = vertex_error.read_csv_rows(reference), vertex_error.read_csv_rows(topped)
+    check(len(after) == 4 and before_lines[0] == after_lines[0], "topup: rows and header kept")
+    lit, _ = vertex_error.lit_mask(before, "median")
+    for i in range(4):
+        rel0, rel1 = reference_topup.relative_se(before[i]), reference_topup.relative_se(after[i])
+        if rel0 <= 0.03 or not lit[i]:
+            check(before_lines[i + 1] == after_lines[i + 1], "topup: probe %d (%.3f) changed" % (i, rel0))
+        else:
+            check(rel1 < rel0 and rel1 <= 0.03 * 1.3, "topup: probe %d noise %.3f -> %.3f" % (i, rel0, rel1))
+    check(all(lit[2:]) and any(reference_topup.relative_se(r) > 0.03 for r in before[2:]),
+          "topup: the ceiling probes were lit and noisy")
+    row = {"r": "1", "g": "2", "b": "3", "se_r": "0.3", "se_g": "0.4", "se_b": "0.5"}
+    extra = {"r": "2", "g": "2", "b": "2", "se_r": "0.1", "se_g": "0.1", "se_b": "0.1"}
+    pooled = reference_topup.pooled(row, 1000, extra, 3000)
+    check(abs(float(pooled["r"]) - 1.75) < 1e-9 and abs(float(pooled["b"]) - 2.25) < 1e-9,
+          "topup: pooled means %s" % pooled)
+    check(abs(float(pooled["se_r"]) - math.sqrt(300.0 ** 2 + 300.0 ** 2) / 4000) < 1e-3,  # printed %.3g
+          "topup: pooled error %s" % pooled["se_r"])
+
+
 def main(argv):
     if len(argv) != 5:
         sys.stderr.write("usage: test_scale_tools.py RADBAKE VERTEX_PROBES REFERENCE_MC LIGHTMAP_AT_VERTICES\n")
@@ -229,6 +271,7 @@ def main(argv):
         test_cornell(radbake, vertex_probes, tmp)
         test_building(radbake, reference_mc, tmp)
         test_lightmap_at_vertices(radbake, vertex_probes, lightmap_at_vertices, tmp)
+        test_reference_topup(reference_mc, tmp)
     test_vertex_error()
     print("%d failure(s)" % len(failures))
     return 1 if failures else 0
