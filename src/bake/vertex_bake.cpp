@@ -94,10 +94,6 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
     return sum / double(count);
 }
 
-// The edge correction (reconstruct.cpp) of each normal group at a point, the faces beside read
-// from the other groups' H where they have vertices there (a room's edges and corners): read
-// once more through their own links instead, the correction cost about 2.4 x house.wrl's
-// vertex time, where most faces beside have no vertex at the point.
 // The direction into the group's faces at the point: the mean of the unit directions to its
 // triangles' centroids, in its plane (what tools/vertex_probes nudges a vertex's probe along).
 DVec3 interiorOf(const Scene& scene, const WeldedPoint& point, const Incident& group) {
@@ -114,8 +110,12 @@ DVec3 interiorOf(const Scene& scene, const WeldedPoint& point, const Incident& g
     return glm::length(sum) > 1e-6 ? glm::normalize(sum) : DVec3(0.0);
 }
 
-// Each group's correction depends on the others' corrected H (a corner darkens each of its
-// faces, and each face's H there reads the others): the groups are corrected together.
+// The edge correction (reconstruct.cpp) of each normal group at a point, the faces beside read
+// from the other groups' H where they have vertices there (a room's edges and corners): read
+// once more through their own links instead, the correction cost about 2.4 x house.wrl's
+// vertex time, where most faces beside have no vertex at the point. Each group's correction
+// depends on the others' corrected H (a corner darkens each of its faces, and each face's H
+// there reads the others): the groups are corrected together.
 void correctEdges(const Scene& scene, const LinkReconstruction& links, WeldedPoint& point) {
     std::vector<LinkReconstruction::SideLight> side;
     for (size_t g = 0; g < point.groups.size(); ++g) side.push_back({point.groups[g].normal, point.h[g]});

@@ -428,10 +428,13 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
             // Read where the point's own value is the limit from: a few lifts into its face
             // along `interior` and off its plane, on the face beside (the floor before a block's
             // foot, or, at its corner, before the foot a little way along it).
-            const DVec3 into = 10.0 * lift * (interior + normal);
-            const DVec3 q = p_world + into - glm::dot(into, b.normal) * b.normal;
-            const uint32_t at = glm::length(interior) > 0.0 ? leafBelow(r, q) : beside;
-            face.h_read = evaluateLeaf(at, glm::length(interior) > 0.0 ? q : p_world, b.normal, counters, false);
+            if (glm::length(interior) > 0.0) {
+                const DVec3 into = 10.0 * lift * (interior + normal);
+                const DVec3 q = p_world + into - glm::dot(into, b.normal) * b.normal;
+                face.h_read = evaluateLeaf(leafBelow(r, q), q, b.normal, counters, false);
+            } else {
+                face.h_read = evaluateLeaf(beside, p_world, b.normal, counters, false);
+            }
         }
         for (size_t k = 0; k < count; ++k, ++w) {
             face.weight += weights[w].first;

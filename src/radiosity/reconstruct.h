@@ -60,17 +60,18 @@ public:
     uint32_t leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const;
 
     // The same split in two, for a caller that reads several faces at one point (the vertex
-    // bake, at a vertex on an edge): H without the edge correction, then the correction to add
-    // to it. A face beside the point whose normal is one of `beside`'s takes that H
-    // (uncorrected, read at this point) instead of being read once more through its own links;
-    // with EdgeCorrection::Shared only those faces are corrected for, with Off none.
-    // irradiance() = max(0, uncorrected + correction) without `beside`, at On (texels: and Shared).
+    // bake, at a vertex on an edge): H without the edge correction, then the correction's terms
+    // (edgeTermsAt), solved with the other faces' by correctTogether. A face beside the point
+    // whose normal is one of `beside`'s takes that H instead of being read once more through
+    // its own links; with EdgeCorrection::Shared only those faces are corrected for, with Off
+    // none. irradiance() does the same with the faces beside it reads itself, at On (texels:
+    // and Shared).
     // Normals closer than this (1 - cos) are one plane: a SideLight stands for the face beside
     // of its normal, and the vertex bake groups a point's faces by it.
     static constexpr double kSameNormal = 1e-6;
     struct SideLight {
         DVec3 normal;  // unit
-        DVec3 h;       // H there, uncorrected
+        DVec3 h;       // H there: uncorrected, or as correctTogether has corrected it so far
     };
     DVec3 irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     // The correction is linear in what each face beside gets at the point: per face,
@@ -103,10 +104,6 @@ public:
     // at a block's convex corner the floor's light there depends on the way in.
     EdgeTerms edgeTermsAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                           const DVec3& h, std::span<const SideLight> beside, const DVec3& interior = DVec3(0.0)) const;
-    DVec3 edgeCorrectionAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                           const DVec3& h, std::span<const SideLight> beside) const {
-        return edgeTermsAt(mesh, triangle, p_world, normal, h, beside).correction(beside);
-    }
 
 private:
     // The leaf holding the point when the point reads its links (on its front side), else
