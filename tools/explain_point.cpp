@@ -20,7 +20,7 @@ using namespace radbake;
 
 int main(int argc, char** argv) {
     if (argc < 9) {
-        std::fprintf(stderr, "usage: explain_point SCENE MESH X Y Z NX NY NZ [--quality Q] [--threads N] [--rays N]\n");
+        std::fprintf(stderr, "usage: explain_point SCENE MESH X Y Z NX NY NZ [--quality Q] [--threads N] [--rays N] [--interior X Y Z]\n");
         return 2;
     }
     const std::string path = argv[1];
@@ -30,8 +30,14 @@ int main(int argc, char** argv) {
     std::string quality = "medium";
     int threads = 0;
     long mc_rays = 0;
+    DVec3 interior(0.0);
     for (int i = 9; i + 1 < argc; i += 2) {
         const std::string key = argv[i];
+        if (key == "--interior" && i + 3 < argc) {
+            interior = glm::normalize(DVec3(std::atof(argv[i + 1]), std::atof(argv[i + 2]), std::atof(argv[i + 3])));
+            i += 2;
+            continue;
+        }
         if (key == "--quality") quality = argv[i + 1];
         else if (key == "--threads") threads = std::atoi(argv[i + 1]);
         else if (key == "--rays") mc_rays = std::atol(argv[i + 1]);
@@ -123,6 +129,19 @@ int main(int argc, char** argv) {
     const DVec3 h_exhaustive = probeIrradiance(s, p, n, mesh_index);
     std::printf("H links %.5g %.5g %.5g\nH exhaustive %.5g %.5g %.5g\n", h_links.x, h_links.y, h_links.z,
                 h_exhaustive.x, h_exhaustive.y, h_exhaustive.z);
+    {
+        // The edge correction as the vertex bake applies it (alone: no other face's vertex at
+        // the point), with the way in `--interior` (zero: read at the point).
+        const DVec3 h0 = links.irradianceUncorrected(mesh_index, triangle, p, n);
+        const auto terms = links.edgeTermsAt(mesh_index, triangle, p, n, h0, {}, interior);
+        for (const auto& f : terms.faces)
+            std::printf("   face beside (normal %.3g %.3g %.3g, leaf %u): weight %.4g, B mean %.4g, H read %.4g (red)\n",
+                        f.normal.x, f.normal.y, f.normal.z, f.leaf, f.weight,
+                        f.weight != 0.0 ? f.weighted_mean.x / f.weight : 0.0, f.h_read.x);
+        const DVec3 c = terms.correction({});
+        std::printf("H uncorrected %.5g %.5g %.5g, corrected %.5g %.5g %.5g\n", h0.x, h0.y, h0.z, h0.x + c.x,
+                    h0.y + c.y, h0.z + c.z);
+    }
     if (mc_rays > 0) {
         // The same solution read with exact visibility: cosine-distributed rays from the point,
         // each bringing the B of the leaf it meets (H = E[B]); per root against the exhaustive

@@ -58,6 +58,16 @@ constexpr int kEdgeCorrectionSplits = 3;
 // a 1/8 of a leaf down to a few lifts on a leaf 1e4 lifts across.
 constexpr size_t kEdgeNearSplits = 48;
 constexpr double kEdgeCorrectionShare = 0.01;
+// A point whose way in runs along the edge it shares with a face beside (more than this
+// cosine) is at the end of that edge: a block's corner on a floor, where the floor's light
+// turns with the direction around it (a shadow wedge starts at the corner: the tessellated
+// Cornell box's block corners read -18 % and -14 % from one read of the floor). The floor is
+// read in kCornerSectors sectors there.
+constexpr double kCornerAlongLine = 0.1;
+// Read in two halves first, and in kCornerSectors sectors when those differ by more than
+// kCornerAgreement in some channel (house.wrl: a quarter of its vertices are such corners).
+constexpr int kCornerSectors = 6;
+constexpr double kCornerAgreement = 0.05;
 constexpr int kLinkVisibilitySplits = 1;
 
 // The light of another face at the point, given by the caller, for a face of this normal.
@@ -341,12 +351,16 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
     for (const uint32_t r : touched) {
         if (r == own.root) continue;
         const Element& other = s.elements[r];
-        // Concave (each in front of the other), not coplanar, and touching the point.
-        if (!(glm::dot(normal, other.centroid - p_world) > 0.0) || !(glm::dot(other.normal, own.centroid - p_world) > 0.0))
-            continue;
+        // Concave (each in front of the other), not coplanar, and touching the point. In front
+        // by any vertex, not the centroid: a floor piece cut around a block's corner lies on
+        // both sides of the block face's plane, and the part in front is what the point sees
+        // (the tessellated Cornell box's tall block read -16 % at such a corner).
+        const PolygonView other_polygon = polygonOf(s, other);
+        const bool other_in_front = std::any_of(other_polygon.vertices.begin(), other_polygon.vertices.end(),
+                                                [&](const DVec3& v) { return glm::dot(normal, v - p_world) > lift; });
+        if (!other_in_front || !(glm::dot(other.normal, own.centroid - p_world) > 0.0)) continue;
         const DVec3 axis = glm::cross(normal, other.normal);
         if (!(glm::length(axis) > 1e-6)) continue;
-        const PolygonView other_polygon = polygonOf(s, other);
         if (!(std::abs(glm::dot(other.normal, p_world - other_polygon.vertices[0])) < lift) ||
             !(pointPolygonDistance(p_world, other_polygon) < lift))
             continue;
@@ -427,8 +441,22 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
         if (!sideLightOf(side_light, b.normal)) {
             // Read where the point's own value is the limit from: a few lifts into its face
             // along `interior` and off its plane, on the face beside (the floor before a block's
-            // foot, or, at its corner, before the foot a little way along it).
-            if (glm::length(interior) > 0.0) {
+            // foot). At the end of the edge the two faces share (a block's corner) the face
+            // beside's light turns with the direction around the point, so it is read in sectors
+            // (sectorRead); once per plane.
+            const DVec3 line = glm::normalize(glm::cross(normal, b.normal));
+            if (const auto same = std::find_if(terms.faces.begin(), terms.faces.end(),
+                                               [&](const EdgeTerms::Face& o) {
+                                                   return glm::dot(o.normal, b.normal) > 1.0 - kSameNormal;
+                                               });
+                same != terms.faces.end()) {
+                face.h_read = same->h_read;
+            } else if (glm::length(interior) > 0.0 && std::abs(glm::dot(interior, line)) > kCornerAlongLine) {
+                std::vector<uint32_t> plane_roots;
+                for (const auto& [o, n] : faces)
+                    if (glm::dot(s.elements[o].normal, b.normal) > 1.0 - kSameNormal) plane_roots.push_back(o);
+                face.h_read = sectorRead(p_world, normal, b.normal, interior, plane_roots, counters);
+            } else if (glm::length(interior) > 0.0) {
                 const DVec3 into = 10.0 * lift * (interior + normal);
                 const DVec3 q = p_world + into - glm::dot(into, b.normal) * b.normal;
                 face.h_read = evaluateLeaf(leafBelow(r, q), q, b.normal, counters, false);
@@ -443,6 +471,59 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
         terms.faces.push_back(face);
     }
     return terms;
+}
+
+DVec3 LinkReconstruction::sectorRead(const DVec3& p_world, const DVec3& normal, const DVec3& beside_normal,
+                                     const DVec3& interior, std::span<const uint32_t> plane_roots,
+                                     ProbeCounters* counters) const {
+    const Solution& s = s_;
+    const double lift = gather::kLift * s.scene_extent;
+    // The half-plane of the face beside in front of the point's face, from `line` (the edge
+    // they share) round to -line, in sectors. Each sector's weight: the form factor of its
+    // wedge (apex at the point, far reaching) from the point a little way in along `interior`,
+    // where the vertex's value is the limit from; its light: read a few lifts out along its
+    // middle, through the leaf there.
+    const DVec3 line = glm::normalize(glm::cross(normal, beside_normal));
+    const DVec3 out = glm::normalize(normal - glm::dot(normal, beside_normal) * beside_normal);
+    const DVec3 from = p_world + 10.0 * lift * interior;
+    const double reach = 1e4 * lift;
+    const auto direction = [&](double a) { return std::cos(a) * line + std::sin(a) * out; };
+    struct Sector {
+        double weight;
+        DVec3 h;
+    };
+    const auto read = [&](int count) {
+        std::vector<Sector> sectors;
+        for (int k = 0; k < count; ++k) {
+            const double a0 = kPi * k / count, a1 = kPi * (k + 1) / count;
+            const std::array<DVec3, 3> wedge{p_world, p_world + reach * direction(a1), p_world + reach * direction(a0)};
+            const double w = piecePointFormFactor(from, normal, wedge, beside_normal);
+            if (counters) ++counters->form_factors;
+            if (!(w > 0.0)) continue;
+            const DVec3 q = p_world + 10.0 * lift * direction(0.5 * (a0 + a1));
+            const auto holder = std::find_if(plane_roots.begin(), plane_roots.end(), [&](uint32_t r) {
+                return pointPolygonDistance(q, polygonOf(s, s.elements[r])) < 1e-3 * lift;
+            });
+            if (holder == plane_roots.end()) continue;  // not this face there (another object's foot)
+            sectors.push_back({w, evaluateLeaf(leafBelow(*holder, q), q, beside_normal, counters, false)});
+        }
+        return sectors;
+    };
+    const auto mean = [](const std::vector<Sector>& sectors) {
+        DVec3 sum(0.0);
+        double weight = 0.0;
+        for (const Sector& sector : sectors) sum += sector.weight * sector.h, weight += sector.weight;
+        return sum / weight;
+    };
+    // Two halves first; where they disagree (a shadow wedge), kCornerSectors sectors.
+    std::vector<Sector> sectors = read(2);
+    bool agree = sectors.size() == 2;
+    for (int c = 0; agree && c < 3; ++c)
+        agree = std::abs(sectors[0].h[c] - sectors[1].h[c]) <=
+                kCornerAgreement * std::max(sectors[0].h[c], sectors[1].h[c]);
+    if (!agree) sectors = read(kCornerSectors);
+    if (!sectors.empty()) return mean(sectors);
+    return evaluateLeaf(leafBelow(plane_roots.front(), p_world), p_world, beside_normal, counters, false);
 }
 
 DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal,

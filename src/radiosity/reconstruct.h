@@ -128,6 +128,12 @@ private:
     EdgeTerms edgeTerms(uint32_t leaf, const DVec3& p_world, const DVec3& lifted, const DVec3& normal, const DVec3& h,
                         std::span<const uint32_t> touched, std::span<const SideLight> beside, bool beside_only,
                         const DVec3& interior, ProbeCounters* counters) const;
+    // H of the face beside (normal `beside_normal`, its roots touching the point
+    // `plane_roots`) seen from a point at the end of the edge the two share: the mean over
+    // sectors around the point, each weighted by its form factor from the way in
+    // (reconstruct.cpp, kCornerSectors).
+    DVec3 sectorRead(const DVec3& p_world, const DVec3& normal, const DVec3& beside_normal, const DVec3& interior,
+                     std::span<const uint32_t> plane_roots, ProbeCounters* counters) const;
     // The leaf below element e that holds p_world (nearest child at each level).
     uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;
     struct PendingSource {
