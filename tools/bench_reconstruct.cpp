@@ -5,7 +5,7 @@
 // over covered texels (vertices).
 //   bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] [--threads 0]
 //                     [--skip-exhaustive-texels | --skip-exhaustive | --vertices-only] [--worst]
-//                     [--repeat N] [--edge-correction off|shared|on]
+//                     [--repeat N] [--edge-correction off|shared|on] [--vertex-csv FILE]
 // --skip-exhaustive: no exhaustive reference at all (timings only); --vertices-only: the
 // vertices, timed, no reference; --worst lists the 30 worst vertices (1 % floor), and
 // for texels each mesh's RMS and share of the squared error, and the 30 worst texels (5 a mesh);
@@ -150,6 +150,7 @@ int main(int argc, char** argv) {
     int threads = 0, repeat = 1;
     std::string edge_correction;  // "": the quality's choice
     bool exhaustive_texels = true, exhaustive_vertices = true, texels = true;
+    std::string vertex_csv;  // --vertex-csv FILE: every vertex's two readings
     int first = 1;
     if (argc > 1 && argv[1][0] != '-') path = argv[first++];
     for (int i = first; i < argc; ++i) {
@@ -167,7 +168,7 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) {
             std::fprintf(stderr, "usage: bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] "
                                  "[--threads 0] [--skip-exhaustive-texels|--skip-exhaustive|--vertices-only] "
-                                 "[--worst] [--repeat N] [--edge-correction off|shared|on]\n");
+                                 "[--worst] [--repeat N] [--edge-correction off|shared|on] [--vertex-csv FILE]\n");
             return 2;
         }
         const std::string value = argv[++i];
@@ -176,6 +177,7 @@ int main(int argc, char** argv) {
         else if (key == "--threads") threads = std::atoi(value.c_str());
         else if (key == "--repeat") repeat = std::max(1, std::atoi(value.c_str()));
         else if (key == "--edge-correction") edge_correction = value;
+        else if (key == "--vertex-csv") vertex_csv = value;
         else {
             std::fprintf(stderr, "unknown option %s\n", key.c_str());
             return 2;
@@ -249,6 +251,19 @@ int main(int argc, char** argv) {
     std::vector<std::pair<size_t, size_t>> vertices;
     for (size_t m = 0; m < v_ref.values.size(); ++m)
         for (size_t v = 0; v < v_ref.values[m].size(); ++v) vertices.emplace_back(m, v);
+    if (!vertex_csv.empty()) {
+        // Both readings of every vertex (W/m^2 as the bake writes them), to score each against
+        // a reference at the vertices (tools/vertex_probes keeps mesh and vertex per probe).
+        std::FILE* f = std::fopen(vertex_csv.c_str(), "w");
+        if (f == nullptr) return 1;
+        std::fprintf(f, "mesh,vertex,links_r,links_g,links_b,exhaustive_r,exhaustive_g,exhaustive_b\n");
+        for (const auto& [m, v] : vertices) {
+            const auto& a = v_links.values[m][v];
+            const auto& b = v_ref.values[m][v];
+            std::fprintf(f, "%zu,%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", m, v, a.x, a.y, a.z, b.x, b.y, b.z);
+        }
+        std::fclose(f);
+    }
     const Error ev = compare(vertices.size(), [&](size_t i, DVec3& a, DVec3& b) {
         a = DVec3(v_links.values[vertices[i].first][vertices[i].second]);
         b = DVec3(v_ref.values[vertices[i].first][vertices[i].second]);

@@ -110,6 +110,7 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
     k.add(o.quadrature_near_ratio), k.add(o.quadrature_max_depth), k.add(o.visibility_samples);
     k.add(o.probe_opening), k.add(o.probe_samples), k.add(o.probe_visibility_ratio), k.add(o.probe_visibility_coarse);
     k.add(o.probe_corner_rays);
+    k.add(o.probe_grazing_corner_rays);
     k.add(o.area_exponent), k.add(o.clustering), k.add(o.local_error_threshold), k.add(o.keep_blocked_links);
     k.add(o.edge_correction);
     return sha256Hex(k.bytes);

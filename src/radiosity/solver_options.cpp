@@ -23,6 +23,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.probe_visibility_ratio = 0.03;
             o.probe_visibility_coarse = 0.2;
             o.edge_correction = EdgeCorrection::Off;
+            o.probe_grazing_corner_rays = false;
             break;
         case Quality::Medium:
             break;  // the defaults in solver.h

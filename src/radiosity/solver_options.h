@@ -90,6 +90,10 @@ struct SolverOptions {
     // its 8 vertices +14 % without, +2 % with; about 2 x the rays of house.wrl's texels and
     // vertices at medium, so on at high and reference only.
     bool probe_corner_rays = false;
+    // The same corner ray (and the recast) on a piece near the point's horizon whose kernel is
+    // steep toward that corner only (gather.h, kGrazingKernelRatio): that ceiling +14 % -> -4 %,
+    // for 6 % more rays on house.wrl. Medium; high and reference cast corner rays everywhere.
+    bool probe_grazing_corner_rays = true;
     // The tessellated Cornell box's output vertices (session 11, 65,536-path reference): Off
     // 2.0 % RMS; Shared 1.50 %, p95 1.88 %, its blocks' feet uncorrected (+8 to +24 %); On 1.28 %,
     // p95 1.75 %, feet within 6 % but for one corner, for 2.4 x house.wrl's vertex time (0.75 ->
