@@ -5,7 +5,7 @@
 // over covered texels (vertices).
 //   bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] [--threads 0]
 //                     [--skip-exhaustive-texels | --skip-exhaustive | --vertices-only] [--worst]
-//                     [--repeat N] [--edge-correction off|shared|on] [--vertex-csv FILE]
+//                     [--repeat N] [--edge-correction off|shared|on] [--vertex-csv FILE] [--error-threshold E] [--no-clustering]
 // --skip-exhaustive: no exhaustive reference at all (timings only); --vertices-only: the
 // vertices, timed, no reference; --worst lists the 30 worst vertices (1 % floor), and
 // for texels each mesh's RMS and share of the squared error, and the 30 worst texels (5 a mesh);
@@ -151,12 +151,18 @@ int main(int argc, char** argv) {
     std::string edge_correction;  // "": the quality's choice
     bool exhaustive_texels = true, exhaustive_vertices = true, texels = true;
     std::string vertex_csv;  // --vertex-csv FILE: every vertex's two readings
+    double error_threshold = 0.0;  // --error-threshold E: the quality's otherwise
+    bool no_clustering = false;
     int first = 1;
     if (argc > 1 && argv[1][0] != '-') path = argv[first++];
     for (int i = first; i < argc; ++i) {
         const std::string key = argv[i];
         if (key == "--worst") {
             g_list_worst = true;
+            continue;
+        }
+        if (key == "--no-clustering") {
+            no_clustering = true;
             continue;
         }
         if (key == "--skip-exhaustive-texels" || key == "--skip-exhaustive" || key == "--vertices-only") {
@@ -168,7 +174,7 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) {
             std::fprintf(stderr, "usage: bench_reconstruct [SCENE] [--quality medium] [--texel-density 16] "
                                  "[--threads 0] [--skip-exhaustive-texels|--skip-exhaustive|--vertices-only] "
-                                 "[--worst] [--repeat N] [--edge-correction off|shared|on] [--vertex-csv FILE]\n");
+                                 "[--worst] [--repeat N] [--edge-correction off|shared|on] [--vertex-csv FILE] [--error-threshold E] [--no-clustering]\n");
             return 2;
         }
         const std::string value = argv[++i];
@@ -178,6 +184,7 @@ int main(int argc, char** argv) {
         else if (key == "--repeat") repeat = std::max(1, std::atoi(value.c_str()));
         else if (key == "--edge-correction") edge_correction = value;
         else if (key == "--vertex-csv") vertex_csv = value;
+        else if (key == "--error-threshold") error_threshold = std::atof(value.c_str());
         else {
             std::fprintf(stderr, "unknown option %s\n", key.c_str());
             return 2;
@@ -195,6 +202,8 @@ int main(int argc, char** argv) {
         preset.solver.edge_correction = edge_correction == "on"       ? EdgeCorrection::On
                                         : edge_correction == "shared" ? EdgeCorrection::Shared
                                                                       : EdgeCorrection::Off;
+    if (error_threshold > 0.0) preset.solver.error_threshold = error_threshold;
+    if (no_clustering) preset.solver.clustering = false;
     Progress progress(false);
     ParallelRunner runner(Threading{.threads = threads});
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
