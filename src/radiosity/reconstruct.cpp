@@ -61,8 +61,8 @@ constexpr double kEdgeCorrectionShare = 0.01;
 // A point whose way in runs along the edge it shares with a face beside (more than this
 // cosine) is at the end of that edge: a block's corner on a floor, where the floor's light
 // turns with the direction around it (a shadow wedge starts at the corner: the tessellated
-// Cornell box's block corners read -18 % and -14 % from one read of the floor). The floor is
-// read in kCornerSectors sectors there.
+// Cornell box's tall block's corner read -18 % and -16 % on its two faces from one read of the
+// floor). The floor is read in kCornerSectors sectors there.
 constexpr double kCornerAlongLine = 0.1;
 // Read in two halves first, and in kCornerSectors sectors when those differ by more than
 // kCornerAgreement in some channel (house.wrl: a quarter of its vertices are such corners).
