@@ -114,9 +114,10 @@ struct Gatherer {
     // high or low (a nearby edge). On the tessellated Cornell box it moved little (vertices
     // 1.52 -> 1.50 % RMS; the ceiling above its lamp +14.3 -> +13.6 %: there the rays miss
     // the hidden part altogether, which probe_corner_rays is for).
+    // Returns whether a corner ray was cast (probe_grazing_corner_rays then recasts a partly
+    // hidden piece, as probe_corner_rays does every one).
     std::vector<double> weights{};
-    bool cornered = false;
-    void castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total,
+    bool castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total,
                         double& visible, int samples_per_side = 0) {
         const int n = samples_per_side > 0 ? samples_per_side : std::max(2, s.options.probe_samples);
         bool below = false;
@@ -148,7 +149,7 @@ struct Gatherer {
         // ceiling above the tessellated Cornell box's lamp sees through the 1 cm gap, below
         // every 2 x 2 ray and where the ceiling's cosine weights most. probe_grazing_corner_rays:
         // only on a piece near the point's horizon whose kernel is steep there (kGrazing*).
-        cornered = false;
+        bool cornered = false;
         if ((s.options.probe_corner_rays || s.options.probe_grazing_corner_rays) && !below && weight_max > 0.0) {
             const DVec3 centroid = polygonCentroid(loop);
             double corner_max = 0.0;
@@ -177,6 +178,7 @@ struct Gatherer {
         // No kernel at any sample (a piece edge-on, no corner ray then): count them alike.
         visible = weight_sum > 0.0 ? open_weight / weight_sum : total > 0 ? double(open) / total : 0.0;
         if (counters) counters->rays += points.size();
+        return cornered;
     }
 
     // A piece whose rays disagree (a shadow edge crosses it) is opened until its radius is
@@ -211,7 +213,7 @@ struct Gatherer {
         }
         int open = 0, total = 0;
         double visible = 0.0;
-        castVisibility(loop, loop_normal, open, total, visible);
+        const bool cornered = castVisibility(loop, loop_normal, open, total, visible);
         const bool partial = open > 0 && open < total;
         if (partial) suspect = kSuspectLevels;
         // Neither rule can split past these limits: skip the piece's geometry then.

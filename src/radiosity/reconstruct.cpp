@@ -445,7 +445,7 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
             // foot). At the end of the edge the two faces share (a block's corner) the face
             // beside's light turns with the direction around the point, so it is read in sectors
             // (sectorRead); once per plane.
-            const DVec3 line = glm::normalize(glm::cross(normal, b.normal));
+            const DVec3 line = glm::normalize(glm::cross(normal, b.normal));  // the edge they share
             if (const auto same = std::find_if(terms.faces.begin(), terms.faces.end(),
                                                [&](const EdgeTerms::Face& o) {
                                                    return glm::dot(o.normal, b.normal) > 1.0 - kSameNormal;
@@ -492,21 +492,30 @@ DVec3 LinkReconstruction::sectorRead(const DVec3& p_world, const DVec3& normal, 
     struct Sector {
         double weight;
         DVec3 h;
+        double middle;  // the angle its light was read at
     };
-    const auto read = [&](int count) {
+    // `known`: sectors read already; one whose middle a new sector shares is not read again
+    // (the halves' middles are the 2nd and 5th of six sectors').
+    const auto read = [&](int count, const std::vector<Sector>& known) {
         std::vector<Sector> sectors;
         for (int k = 0; k < count; ++k) {
-            const double a0 = kPi * k / count, a1 = kPi * (k + 1) / count;
+            const double a0 = kPi * k / count, a1 = kPi * (k + 1) / count, middle = 0.5 * (a0 + a1);
             const std::array<DVec3, 3> wedge{p_world, p_world + reach * direction(a1), p_world + reach * direction(a0)};
             const double w = piecePointFormFactor(from, normal, wedge, beside_normal);
             if (counters) ++counters->form_factors;
             if (!(w > 0.0)) continue;
-            const DVec3 q = p_world + 10.0 * lift * direction(0.5 * (a0 + a1));
+            const auto same = std::find_if(known.begin(), known.end(),
+                                           [&](const Sector& o) { return std::abs(o.middle - middle) < 1e-12; });
+            if (same != known.end()) {
+                sectors.push_back({w, same->h, middle});
+                continue;
+            }
+            const DVec3 q = p_world + 10.0 * lift * direction(middle);
             const auto holder = std::find_if(plane_roots.begin(), plane_roots.end(), [&](uint32_t r) {
                 return pointPolygonDistance(q, polygonOf(s, s.elements[r])) < 1e-3 * lift;
             });
             if (holder == plane_roots.end()) continue;  // not this face there (another object's foot)
-            sectors.push_back({w, evaluateLeaf(leafBelow(*holder, q), q, beside_normal, counters, false)});
+            sectors.push_back({w, evaluateLeaf(leafBelow(*holder, q), q, beside_normal, counters, false), middle});
         }
         return sectors;
     };
@@ -517,12 +526,12 @@ DVec3 LinkReconstruction::sectorRead(const DVec3& p_world, const DVec3& normal, 
         return sum / weight;
     };
     // Two halves first; where they disagree (a shadow wedge), kCornerSectors sectors.
-    std::vector<Sector> sectors = read(2);
+    std::vector<Sector> sectors = read(2, {});
     bool agree = sectors.size() == 2;
     for (int c = 0; agree && c < 3; ++c)
         agree = std::abs(sectors[0].h[c] - sectors[1].h[c]) <=
                 kCornerAgreement * std::max(sectors[0].h[c], sectors[1].h[c]);
-    if (!agree) sectors = read(kCornerSectors);
+    if (!agree) sectors = read(kCornerSectors, sectors);
     if (!sectors.empty()) return mean(sectors);
     return evaluateLeaf(leafBelow(plane_roots.front(), p_world), p_world, beside_normal, counters, false);
 }
