@@ -185,7 +185,7 @@ constexpr int kRaysPerMember = 3;  // separable links: each member casts this ma
 constexpr double kFaintFraction = 0.25;
 // Cluster links stop refining at this fraction of the element links' threshold.
 constexpr double kClusterThresholdScale = 0.25;
-constexpr size_t kFaintRays = 16;
+constexpr size_t kFaintRays = 32;
 // Points this close to a plane (fraction of the scene's extent) lie in it: above float
 // rounding of coordinates (1e-7), below any gap a lighting result can see.
 constexpr double kCoplanarTolerance = 1e-6;

@@ -41,8 +41,13 @@ size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_
 // room's corners saw there (+30 % at the tessellated Cornell box's ceiling corners). Sources
 // are not cut. The lit piece touching the plane is cut again halfway up (its direct light
 // rises from zero at the plane). `polygons` and `emits` are indexed alike (emits is not
-// updated). Returns the cuts.
-size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<bool>& emits, double tolerance,
+// updated). And each polygon of `reflects` facing the back of a source of `outlines`
+// (one-sided, of any power) across a gap under a tenth of its mesh's size (a ceiling above a
+// lamp hung under it) by its pieces on either side of the planes through that source's
+// outline, square to it: it is dark where the source hides it and lit beside it (a black one
+// is dark everywhere: not cut). Returns the cuts.
+size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<bool>& emits,
+                         const std::vector<bool>& outlines, const std::vector<bool>& reflects, double tolerance,
                          size_t max_vertices);
 
 }  // namespace radbake

@@ -206,20 +206,27 @@ void buildRootElements(const Scene& scene, Solution& solution) {
     // sides of its plane) and bright, a mesh sending at least kSourcePlaneShare of the scene's
     // emitted power (office.wrl's many small emitting parts cut 28k polygons otherwise).
     std::vector<double> mesh_power(scene.meshes.size(), 0.0);
-    std::vector<bool> emits(roots.size());
+    std::vector<bool> emits(roots.size()), reflects(roots.size());
     double total_power = 0.0;
     for (size_t i = 0; i < roots.size(); ++i) {
         const Mesh& mesh = scene.meshes[roots[i].mesh];
         const Vec3 e = polygonEmission(scene, mesh, roots[i].polygon);
+        const Vec3 rho = polygonReflectance(scene, mesh, roots[i].polygon);
+        reflects[i] = std::max({rho.x, rho.y, rho.z}) > 0.0f;
         const double power = polygonArea(roots[i].loop) * std::max({e.x, e.y, e.z});
         mesh_power[roots[i].mesh] += power;
         total_power += power;
         emits[i] = power > 0.0 && mesh.twin == kNoMesh;
     }
+    // The outline cuts whatever the source's power: they are few (only what lies right behind a
+    // source), and a dim room's lamp must cut the same beside a bright room as alone; and only
+    // what reflects (a black ceiling is dark either way, and a dim lamp in a black room must not
+    // change the rest's hierarchy).
+    const std::vector<bool> outlines = emits;
     for (size_t i = 0; i < roots.size(); ++i)
         emits[i] = emits[i] && mesh_power[roots[i].mesh] >= kSourcePlaneShare * total_power;
     solution.stats.contact_cuts +=
-        cutAtSourcePlanes(roots, emits, kContactTolerance * solution.scene_extent, kMaxRootVertices);
+        cutAtSourcePlanes(roots, emits, outlines, reflects, kContactTolerance * solution.scene_extent, kMaxRootVertices);
     for (const RootPolygon& root : roots) addRoot(solution, scene, root.mesh, root.polygon, root.loop);
     solution.root_count = static_cast<uint32_t>(solution.elements.size());
     solution.total_area = 0.0;

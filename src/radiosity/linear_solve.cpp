@@ -222,14 +222,15 @@ void groupLinksByReceiver(Solution& solution, std::vector<LinkRecord>* records) 
     }
 }
 
-LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, double tolerance, int max_iterations) {
+LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, SolveStart start, double tolerance,
+                                 int max_iterations) {
     Operator op(solution, runner);
     const size_t n = op.leaves.size();
     LinearSolveResult result;
     Vector b(n), x(n), r(n), w(n), ax(n);
     for (size_t k = 0; k < n; ++k) {
         b[k] = solution.elements[op.leaves[k]].emission;
-        x[k] = solution.elements[op.leaves[k]].radiosity;
+        x[k] = start == SolveStart::Emission ? b[k] : solution.elements[op.leaves[k]].radiosity;
     }
     const double b_norm = op.norm(b);
     if (!(b_norm > 0.0)) {

@@ -15,9 +15,19 @@ struct LinearSolveResult {
     double residual = 0.0;  // |E + rho K B - B| / |E|, area-weighted
 };
 
-// Starts from the elements' current leaf radiosity; leaves every element's radiosity and
-// gathered irradiance consistent with the result. Links must be grouped by receiver.
-LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, double tolerance, int max_iterations);
+// Where the solve starts. A round's solve starts from the emission, not the last round's
+// answer: in exact arithmetic the answer does not depend on the start, but GMRES stops at a
+// residual relative to the whole scene, and a warm start keeps whatever the last round's links
+// put where the new links bring nothing (a closed closet lit by a coarse cluster link the next
+// round refined away, 2e-7 of the room's light). From the emission, a leaf no final link
+// lights stays exactly zero. The re-solve after deferred links were evaluated continues from
+// the round's answer: those links only add light where it was missing.
+enum class SolveStart { Emission, Current };
+
+// Leaves every element's radiosity and gathered irradiance consistent with the result.
+// Links must be grouped by receiver.
+LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, SolveStart start, double tolerance,
+                                 int max_iterations);
 
 // Sorts links by receiver (stable, so the order within a receiver stays the creation order).
 void groupLinksByReceiver(Solution& solution, std::vector<struct LinkRecord>* records);

@@ -60,7 +60,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         if (clusters) groupClusterLinksByReceiver(s);
         stopIfCancelled(runner);
         progress.beginPhase("solve" + suffix);
-        result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
+        result = solveHierarchy(s, runner, SolveStart::Emission, options.iteration_tolerance, options.max_iterations);
         stopIfCancelled(runner);
         s.stats.iterations += result.iterations;
         if (clusters && clusters->hasDeferred()) {
@@ -81,7 +81,8 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
                 groupLinksByReceiver(s, &state.records);
                 groupClusterLinksByReceiver(s);
                 progress.beginPhase("solve" + suffix + " (deferred)");
-                result = solveHierarchy(s, runner, options.iteration_tolerance, options.max_iterations);
+                result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance,
+                                        options.max_iterations);
                 s.stats.iterations += result.iterations;
             }
         }

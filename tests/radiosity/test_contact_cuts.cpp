@@ -171,7 +171,8 @@ TEST_CASE("the plane of a light source cuts the walls it crosses near it, and no
         quad(5, {9, 0, 0.9375}, {9, 0.0625, 0.9375}, {9, 0.0625, 1}, {9, 0, 1}),          // 8 m away
     };
     std::vector<bool> emits{true, false, false, false, false, false};
-    CHECK(cutAtSourcePlanes(polygons, emits, kTolerance, 32) == 4);
+    const std::vector<bool> none(emits.size(), false), all(emits.size(), true);
+    CHECK(cutAtSourcePlanes(polygons, emits, none, all, kTolerance, 32) == 4);
     REQUIRE(polygons.size() == 10);
     CHECK(countOf(polygons, 0) == 1);
     for (const uint32_t wall : {1u, 2u}) {
@@ -189,4 +190,50 @@ TEST_CASE("the plane of a light source cuts the walls it crosses near it, and no
         }
     }
     for (const uint32_t whole : {3u, 4u, 5u}) CHECK(countOf(polygons, whole) == 1);
+}
+
+// The same lamp as 2 x 2 tiles, 1 cm under a ceiling of 0.25 m tiles: the ceiling tiles that
+// straddle the lamp's outline are cut along it (not along the lines between the lamp's own
+// tiles), each piece wholly over the lamp or wholly beside it; a ceiling tile beyond the
+// lamp's footprint, a parallel panel 0.1 m above the lamp (a gap of a third of its size), and
+// the floor it faces stay whole.
+TEST_CASE("a surface right behind a light source is cut along the source's outline") {
+    std::vector<RootPolygon> polygons;
+    std::vector<bool> outlines;
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+            const double x = 0.4 + 0.1 * i, y = 0.4 + 0.1 * j;
+            polygons.push_back(quad(0, {x, y, 0.99}, {x, y + 0.1, 0.99}, {x + 0.1, y + 0.1, 0.99}, {x + 0.1, y, 0.99}));
+            outlines.push_back(true);
+        }
+    // Ceiling tiles facing down (-z), 0.25 m: [0.25, 0.5] and [0.5, 0.75] straddle 0.4 and 0.6.
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            const double x = 0.25 * i, y = 0.25 * j;
+            polygons.push_back(quad(1, {x, y, 1}, {x, y + 0.25, 1}, {x + 0.25, y + 0.25, 1}, {x + 0.25, y, 1}));
+            outlines.push_back(false);
+        }
+    polygons.push_back(quad(2, {0.3, 0.3, 1.09}, {0.3, 0.7, 1.09}, {0.7, 0.7, 1.09}, {0.7, 0.3, 1.09}));  // far panel
+    polygons.push_back(quad(3, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}));                                // floor
+    outlines.push_back(false);
+    outlines.push_back(false);
+    const std::vector<bool> emits(polygons.size(), false), reflects(polygons.size(), true);
+    // The four straddling tiles each hold a corner of the lamp: one line cuts it in two, the
+    // other both halves (3 cuts, 4 pieces each).
+    CHECK(cutAtSourcePlanes(polygons, emits, outlines, reflects, kTolerance, 32) == 12);
+    CHECK(countOf(polygons, 0) == 4);
+    CHECK(countOf(polygons, 1) == 12 + 4 * 4);
+    CHECK(areaOf(polygons, 1) == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(countOf(polygons, 2) == 1);
+    CHECK(countOf(polygons, 3) == 1);
+    // Every ceiling piece lies wholly over the lamp's footprint or wholly beside it.
+    for (const RootPolygon& p : polygons) {
+        if (p.mesh != 1) continue;
+        double lo_x = 1, hi_x = 0, lo_y = 1, hi_y = 0;
+        for (const DVec3& v : p.loop)
+            lo_x = std::min(lo_x, v.x), hi_x = std::max(hi_x, v.x), lo_y = std::min(lo_y, v.y), hi_y = std::max(hi_y, v.y);
+        const bool inside = lo_x >= 0.4 - 1e-9 && hi_x <= 0.6 + 1e-9 && lo_y >= 0.4 - 1e-9 && hi_y <= 0.6 + 1e-9;
+        const bool beside = hi_x <= 0.4 + 1e-9 || lo_x >= 0.6 - 1e-9 || hi_y <= 0.4 + 1e-9 || lo_y >= 0.6 - 1e-9;
+        CHECK((inside || beside));
+    }
 }

@@ -78,7 +78,10 @@ TEST_CASE("a scene scaled by 1e-4 or 1e6 refines the same way and gives the same
         const Scene scene = room(scale);  // a Solution refers to its scene
         const auto scaled = solve(scene, options(), d, 1);
         REQUIRE(scaled);
-        CHECK(scaled->stats.elements == base->stats.elements);
+        // A split may flip at the margin too (the ceiling cut along the lamp's outline,
+        // contact_cuts.h: two splits of one block face of 1,825 elements at both scales).
+        CHECK(scaled->stats.roots == base->stats.roots);
+        CHECK(std::abs(double(scaled->stats.elements) - double(base->stats.elements)) <= 1e-2 * base->stats.elements);
         // Float rounding of the scaled positions may flip an oracle decision at the margin
         // (since the floor is cut along the block, contact_cuts.h: 40 of 14,486 links at 1e-4).
         CHECK(std::abs(double(scaled->stats.links) - double(base->stats.links)) <= 5e-3 * base->stats.links);
@@ -88,17 +91,19 @@ TEST_CASE("a scene scaled by 1e-4 or 1e6 refines the same way and gives the same
               5e-3 * base->stats.links);
         // Radiosity (W/m^2) does not depend on the scale. Float rounding of the positions
         // differs (1e-7 relative), which can flip a grazing shadow ray where the block stands
-        // on the floor (one of 9 rays of a link): elements within 1 %, the mean within 3e-4
+        // on the floor (one of 9 rays of a link): roots within 1 %, the mean within 3e-4
         // (1.3e-4 measured at 1e6 since rays sample only the parts of two elements in front
         // of each other, refine.cpp, and the floor is cut along the block).
+        // Compared root by root (a flipped split renumbers the elements after it): each root's
+        // radiosity is the area mean of its leaves.
         double worst = 0.0, sum_base = 0.0, sum_scaled = 0.0;
-        for (size_t i = 0; i < std::min(base->elements.size(), scaled->elements.size()); ++i) {
+        for (size_t i = 0; i < base->root_count; ++i) {
             const double b = base->elements[i].radiosity.x, s = scaled->elements[i].radiosity.x;
             worst = std::max(worst, std::abs(s - b) / std::max(b, 1e-3));
             sum_base += b * base->elements[i].area / base->total_area;
             sum_scaled += s * scaled->elements[i].area / scaled->total_area;
         }
-        MESSAGE("scale " << scale << ": worst element difference " << worst << ", mean "
+        MESSAGE("scale " << scale << ": worst root difference " << worst << ", mean "
                          << sum_scaled / sum_base - 1.0);
         CHECK(worst < 1e-2);
         CHECK(sum_scaled == doctest::Approx(sum_base).epsilon(3e-4).scale(0.0));
