@@ -114,6 +114,7 @@ private:
     bool empty_ = true;
     std::vector<size_t> link_begin_;  // per receiver key (roots, then clusters) + 1
     std::vector<DVec3> flux_;         // per separable link: sum_i s_i B_i
+    std::vector<DVec3> member_radiosity_;  // per Solution::cluster_members entry
 };
 
 }  // namespace radbake
