@@ -193,7 +193,7 @@ double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span
     for (size_t i = 0; i < count; ++i) dirs[i] = clipped[i] - point;
     for (size_t i = 0; i < count; ++i) {
         const DVec3& r0 = dirs[i];
-        const DVec3& r1 = dirs[(i + 1) % count];
+        const DVec3& r1 = dirs[i + 1 == count ? 0 : i + 1];  // no division: this is the hottest loop
         const DVec3 c = glm::cross(r0, r1);
         const double c_len = glm::length(c);
         if (!(c_len > 0.0)) continue;  // a vertex at the point, or collinear: no area swept
@@ -208,7 +208,7 @@ size_t clipAboveHorizon(const DVec3& point, const DVec3& normal, std::span<const
     size_t count = 0;
     for (size_t i = 0; i < n; ++i) {
         const DVec3& a = loop[i];
-        const DVec3& b = loop[(i + 1) % n];
+        const DVec3& b = loop[i + 1 == n ? 0 : i + 1];
         const double da = glm::dot(normal, a - point);
         const double db = glm::dot(normal, b - point);
         if (da >= 0.0) out[count++] = a;
