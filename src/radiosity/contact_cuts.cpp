@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <utility>
 
 #include "geometry/polygon.h"
 
@@ -208,6 +209,45 @@ bool splitPiece(std::vector<DVec3>& piece, const Plane& plane, double min_front_
     return false;
 }
 
+// The edges of the source polygons of each mesh, to find a source's outline: its edges that no
+// other source polygon of its mesh shares (reversed, within tolerance). Sorted by mesh and by the
+// edge's midpoint projected on a generic direction (equal edges project within tolerance), so a
+// lookup scans a narrow window, not every polygon: an emitting mesh may have thousands.
+class SourceEdges {
+public:
+    void add(uint32_t mesh, uint32_t polygon, const DVec3& a, const DVec3& b) {
+        edges_.push_back({mesh, polygon, key(a, b), a, b});
+    }
+    void sort() {
+        std::sort(edges_.begin(), edges_.end(),
+                  [](const Edge& x, const Edge& y) { return x.mesh != y.mesh ? x.mesh < y.mesh : x.key < y.key; });
+    }
+    // True when a polygon of `mesh` other than `polygon` has the edge (b, a).
+    bool shared(uint32_t mesh, uint32_t polygon, const DVec3& a, const DVec3& b, double tolerance) const {
+        const double k = key(a, b);
+        auto it = std::lower_bound(edges_.begin(), edges_.end(), std::pair{mesh, k - tolerance},
+                                   [](const Edge& e, const std::pair<uint32_t, double>& v) {
+                                       return e.mesh != v.first ? e.mesh < v.first : e.key < v.second;
+                                   });
+        for (; it != edges_.end() && it->mesh == mesh && it->key <= k + tolerance; ++it)
+            if (it->polygon != polygon && glm::length(it->a - b) <= tolerance && glm::length(it->b - a) <= tolerance)
+                return true;
+        return false;
+    }
+
+private:
+    struct Edge {
+        uint32_t mesh, polygon;
+        double key;
+        DVec3 a, b;
+    };
+    static double key(const DVec3& a, const DVec3& b) {
+        const DVec3 direction(0.7548776662466927, 0.5698402909980532, 0.3247179572447460);  // |d| < 1
+        return glm::dot(0.5 * (a + b), direction);
+    }
+    std::vector<Edge> edges_;
+};
+
 }  // namespace
 
 size_t cutAtContacts(std::vector<RootPolygon>& polygons, double tolerance, size_t max_vertices) {
@@ -309,6 +349,13 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
         }
         return lo < -tolerance && hi > tolerance;
     };
+    SourceEdges source_edges;
+    for (size_t s = 0; s < n; ++s)
+        if (outlines[s])
+            for (size_t e = 0; e < polygons[s].loop.size(); ++e)
+                source_edges.add(polygons[s].mesh, uint32_t(s), polygons[s].loop[e],
+                                 polygons[s].loop[(e + 1) % polygons[s].loop.size()]);
+    source_edges.sort();
     for (size_t s = 0; s < n; ++s) {
         if (!outlines[s]) continue;
         const Plane& plane = planes[s];
@@ -325,14 +372,7 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
         const auto& loop = polygons[s].loop;
         for (size_t e = 0; e < loop.size(); ++e) {
             const DVec3 &a = loop[e], &b = loop[(e + 1) % loop.size()];
-            bool shared = false;
-            for (size_t t = 0; t < n && !shared; ++t) {
-                if (t == s || !outlines[t] || polygons[t].mesh != polygons[s].mesh) continue;
-                const auto& other = polygons[t].loop;
-                for (size_t f = 0; f < other.size() && !shared; ++f)
-                    shared = glm::length(other[f] - b) <= tolerance && glm::length(other[(f + 1) % other.size()] - a) <= tolerance;
-            }
-            if (shared) continue;
+            if (source_edges.shared(polygons[s].mesh, uint32_t(s), a, b, tolerance)) continue;
             const DVec3 side = glm::cross(b - a, plane.normal);
             if (!(glm::length(side) > 0.0)) continue;
             const Plane edge_plane{glm::normalize(side), -glm::dot(glm::normalize(side), a)};
