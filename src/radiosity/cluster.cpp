@@ -187,7 +187,9 @@ constexpr double kFaintFraction = 0.25;
 constexpr double kClusterThresholdScale = 0.25;
 // 16 rays missed a dark member often enough to matter: a ceiling piece over the tessellated
 // Cornell box's lamp (cut along its outline, contact_cuts.h) read +37 % through a faint link
-// whose 16 rays all passed (+7 % with 32; graz.wrl's solve 1.06-1.17 x).
+// whose 16 rays all passed (+7 % with 32). It costs: graz.wrl's solve 1.07 x, the 200k
+// building's 1.28 x, the 1M building's 1.6 x (docs/scale.md, "Session 13"): the faint links
+// 32 rays find partly blocked are refined.
 constexpr size_t kFaintRays = 32;
 // Points this close to a plane (fraction of the scene's extent) lie in it: above float
 // rounding of coordinates (1e-7), below any gap a lighting result can see.
