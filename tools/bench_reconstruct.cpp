@@ -264,7 +264,10 @@ int main(int argc, char** argv) {
         // Both readings of every vertex (W/m^2 as the bake writes them), to score each against
         // a reference at the vertices (tools/vertex_probes keeps mesh and vertex per probe).
         std::FILE* f = std::fopen(vertex_csv.c_str(), "w");
-        if (f == nullptr) return 1;
+        if (f == nullptr) {
+            std::fprintf(stderr, "bench_reconstruct: cannot write %s\n", vertex_csv.c_str());
+            return 1;
+        }
         std::fprintf(f, "mesh,vertex,links_r,links_g,links_b,exhaustive_r,exhaustive_g,exhaustive_b\n");
         for (const auto& [m, v] : vertices) {
             const auto& a = v_links.values[m][v];

@@ -879,15 +879,14 @@ void ClusterTransfer::gather(const Solution& s, ParallelRunner& runner, std::vec
                 h += receiverCosine(receiver, centroidOf(s, link.source), centroidOf(s, link.receiver)) * flux_[l];
                 return;
             }
-            // pairKernelOf over the source members, its mask read once.
+            // pairKernelOf over the source members, the link's mask read once.
             const NodeMembers rm = membersOf(s, link.receiver), sm = membersOf(s, link.source);
             const uint32_t j = s.member_position[root] - rm.first;
             const uint64_t mask = kernelMask(s, link);
-            const float* values = s.cluster_kernel.data() + link.kernel + kKernelMaskFloats;
+            const float* values = kernelValues(s, link);
             const DVec3* radiosity = member_radiosity_.data() + sm.first;
             for (uint32_t i = 0, pair = j; i < sm.count; ++i, pair += rm.count)
-                if ((mask >> pair) & 1u)
-                    h += double(values[std::popcount(mask & ((uint64_t(1) << pair) - 1u))]) * radiosity[i];
+                if ((mask >> pair) & 1u) h += kernelValue(mask, values, pair) * radiosity[i];  // skip 0 x B
         });
         per_root[r] = h;
     });

@@ -44,12 +44,20 @@ inline uint64_t kernelMask(const Solution& s, const ClusterLink& link) {
 // Floats a pairwise link's kernel takes.
 inline size_t kernelFloats(uint64_t mask) { return kKernelMaskFloats + size_t(std::popcount(mask)); }
 
+// A pair's value in a sparse kernel: its mask and the values that follow it.
+inline double kernelValue(uint64_t mask, const float* values, uint32_t pair) {
+    if (!((mask >> pair) & 1u)) return 0.0;
+    return values[std::popcount(mask & ((uint64_t(1) << pair) - 1u))];
+}
+
+// The values of a pairwise link's kernel (after its mask).
+inline const float* kernelValues(const Solution& s, const ClusterLink& link) {
+    return s.cluster_kernel.data() + link.kernel + kKernelMaskFloats;
+}
+
 // Irradiance at receiver member j per unit radiosity of source member i, pair = i * |R| + j.
 inline double pairKernelOf(const Solution& s, const ClusterLink& link, uint32_t pair) {
-    const uint64_t mask = kernelMask(s, link);
-    if (!((mask >> pair) & 1u)) return 0.0;
-    const uint64_t below = mask & ((uint64_t(1) << pair) - 1u);
-    return s.cluster_kernel[link.kernel + kKernelMaskFloats + size_t(std::popcount(below))];
+    return kernelValue(kernelMask(s, link), kernelValues(s, link), pair);
 }
 
 // Appends a dense kernel (|S| x |R| values, at most 64) in the sparse form; returns its offset.

@@ -356,6 +356,7 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
                 source_edges.add(polygons[s].mesh, uint32_t(s), polygons[s].loop[e],
                                  polygons[s].loop[(e + 1) % polygons[s].loop.size()]);
     source_edges.sort();
+    std::vector<Plane> edge_planes;  // a source's outline edges' planes
     for (size_t s = 0; s < n; ++s) {
         if (!outlines[s]) continue;
         const Plane& plane = planes[s];
@@ -370,27 +371,30 @@ size_t cutAtSourcePlanes(std::vector<RootPolygon>& polygons, const std::vector<b
         // tessellated box read 0.2 % low (0.06 % with the lamp's outline on the tile lines).
         const double gap_limit = kOutlineGap * glm::length(source_box.extent());
         const auto& loop = polygons[s].loop;
+        edge_planes.clear();
         for (size_t e = 0; e < loop.size(); ++e) {
             const DVec3 &a = loop[e], &b = loop[(e + 1) % loop.size()];
             if (source_edges.shared(polygons[s].mesh, uint32_t(s), a, b, tolerance)) continue;
             const DVec3 side = glm::cross(b - a, plane.normal);
             if (!(glm::length(side) > 0.0)) continue;
-            const Plane edge_plane{glm::normalize(side), -glm::dot(glm::normalize(side), a)};
-            // Behind the source, facing its back, within the gap, over the source's footprint.
-            Aabb behind = boxes[s];
-            behind.min -= DVec3(gap_limit);
-            behind.max += DVec3(gap_limit);
-            tree.overlapping(behind, [&](uint32_t j) {
-                if (outlines[j] || !reflects[j] || !(glm::dot(planes[j].normal, plane.normal) > 1.0 - 1e-6)) return;
-                double nearest = -INFINITY, farthest = INFINITY;
-                for (const DVec3& v : polygons[j].loop) {
-                    nearest = std::max(nearest, plane.eval(v));
-                    farthest = std::min(farthest, plane.eval(v));
-                }
-                if (!(nearest < -tolerance && farthest > -gap_limit)) return;
-                if (crosses(j, edge_plane)) addCrossing(j, edge_plane, false);
-            });
+            edge_planes.push_back({glm::normalize(side), -glm::dot(glm::normalize(side), a)});
         }
+        if (edge_planes.empty()) continue;
+        // Behind the source, facing its back, within the gap, over the source's footprint.
+        Aabb behind = boxes[s];
+        behind.min -= DVec3(gap_limit);
+        behind.max += DVec3(gap_limit);
+        tree.overlapping(behind, [&](uint32_t j) {
+            if (outlines[j] || !reflects[j] || !(glm::dot(planes[j].normal, plane.normal) > 1.0 - 1e-6)) return;
+            double nearest = -INFINITY, farthest = INFINITY;
+            for (const DVec3& v : polygons[j].loop) {
+                nearest = std::max(nearest, plane.eval(v));
+                farthest = std::min(farthest, plane.eval(v));
+            }
+            if (!(nearest < -tolerance && farthest > -gap_limit)) return;
+            for (const Plane& edge_plane : edge_planes)
+                if (crosses(j, edge_plane)) addCrossing(j, edge_plane, false);
+        });
     }
     for (size_t s = 0; s < n; ++s) {
         if (!emits[s]) continue;
