@@ -14,7 +14,6 @@
 
 #include "bake/lightmap_bake.h"    // Lightmaps, LightmapCharts, LightmapOptions
 #include "bake/lightmap_budget.h"  // LightmapBudget
-#include "bake/vertex_bake.h"      // VertexBake
 #include "core/diagnostics.h"      // Diagnostics, SourceLocation
 #include "core/parallel.h"         // Threading, ParallelRunner
 #include "core/progress.h"         // Progress, ProgressEvent
@@ -24,8 +23,12 @@
 #include "pipeline/bake_options.h" // BakeOptions, LightmapSettings
 #include "pipeline/depfile.h"      // writeDepfile
 #include "pipeline/lightmap_scales.h" // LightmapScaleRule, readLightmapScales
-#include "radiosity/solution.h"    // Solution, Element, Link, probeIrradiance
+#include "radiosity/solution.h"    // Solution, Element, Link
 #include "radiosity/solver.h"      // SolverOptions, SolveStats (solver_options.h)
+#include "readout/evaluate_probe.h" // probeIrradiance
+#include "readout/readout_options.h" // ReadoutOptions, GatherMode, EdgeCorrection
+#include "readout/reconstruct.h"   // LinkReconstruction
+#include "readout/vertex_bake.h"   // VertexBake
 #include "scene/creases.h"         // splitHardEdges
 #include "scene/scene.h"           // Scene, Mesh, Material, Light, Camera
 #include "scene/two_sided.h"       // addBackTwins, frontMesh
@@ -51,16 +54,21 @@ PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& 
 std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts, const SolverOptions& options,
                                        ParallelRunner& runner, Progress& progress, Diagnostics& diagnostics);
 
-// 4. H / pi at every vertex of every mesh.
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner,
-                        Progress* progress /* = nullptr */, GatherMode mode /* = GatherMode::Links */);
+// 4. The read-out: the light at any point read from a solution (readout/), as its
+//    ReadoutOptions say (ReadoutOptions::forQuality; none of them changes the solution).
+//    Probes: probeIrradiance (the exhaustive gather). Points on the scene's surfaces:
+//    LinkReconstruction (through the links that reach the point's leaf). Vertices: H / pi at
+//    every vertex of every mesh.
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, const ReadoutOptions& options,
+                        ParallelRunner& runner, Progress* progress /* = nullptr */);
 
 // 5. Lightmaps: charts (within the texel budget, before the solve), then packing, texels,
 //    dilation and seams.
 std::optional<LightmapCharts> chartLightmapsWithinBudget(const Scene& scene, LightmapOptions options,
                                                          const LightmapBudget& budget, Diagnostics& diagnostics);
-bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
-                   Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress /* = nullptr */);
+bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOptions& readout, LightmapCharts charts,
+                   ParallelRunner& runner, Lightmaps& lightmaps, Diagnostics& diagnostics,
+                   Progress* progress /* = nullptr */);
 
 // All of the above (plus probes and previews), in memory.
 Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);

@@ -22,7 +22,7 @@
 
 #include "geometry/parts.h"
 #include "io/import.h"
-#include "radiosity/evaluate_probe.h"
+#include "readout/evaluate_probe.h"
 #include "radiosity/solution.h"
 #include "radiosity/solver.h"
 #include "scene/two_sided.h"
@@ -140,6 +140,7 @@ int main(int argc, char** argv) {
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
     const Quality q = qualityNamed(quality);
     SolverOptions options = SolverOptions::forQuality(q);
+    const ReadoutOptions readout = ReadoutOptions::forQuality(q);
     Progress progress(false);
     ParallelRunner runner(Threading{});
     const auto solution = solveRadiosity(*scene, parts, options, runner, progress, diagnostics);
@@ -154,13 +155,13 @@ int main(int argc, char** argv) {
     std::vector<DVec3> answers(points.size());
     ProbeCounters counters;
     for (size_t i = 0; i < points.size(); ++i)
-        answers[i] = probeIrradianceCounted(*solution, points[i].p, points[i].n, counters);
+        answers[i] = probeIrradianceCounted(*solution, readout, points[i].p, points[i].n, counters);
     std::vector<double> per_eval, cpu_per_eval;
     for (int r = 0; r < runs; ++r) {
         const auto start = std::chrono::steady_clock::now();
         const double cpu_start = threadCpuSeconds();
         DVec3 check(0.0);
-        for (const Point& pt : points) check += probeIrradiance(*solution, pt.p, pt.n);
+        for (const Point& pt : points) check += probeIrradiance(*solution, readout, pt.p, pt.n);
         const double cpu = threadCpuSeconds() - cpu_start;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         per_eval.push_back(seconds / static_cast<double>(points.size()));

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "radbake.h"
-#include "radiosity/reconstruct.h"
+#include "readout/reconstruct.h"
 
 using namespace radbake;
 
@@ -199,11 +199,14 @@ int main(int argc, char** argv) {
     const Quality q = qualityNamed(quality);
     BakeOptions preset = BakeOptions::forQuality(q);
     if (!edge_correction.empty())
-        preset.solver.edge_correction = edge_correction == "on"       ? EdgeCorrection::On
-                                        : edge_correction == "shared" ? EdgeCorrection::Shared
-                                                                      : EdgeCorrection::Off;
+        preset.readout.edge_correction = edge_correction == "on"       ? EdgeCorrection::On
+                                         : edge_correction == "shared" ? EdgeCorrection::Shared
+                                                                       : EdgeCorrection::Off;
     if (error_threshold > 0.0) preset.solver.error_threshold = error_threshold;
     if (no_clustering) preset.solver.clustering = false;
+    const ReadoutOptions& readout = preset.readout;
+    ReadoutOptions exhaustive_readout = readout;
+    exhaustive_readout.gather = GatherMode::Exhaustive;
     Progress progress(false);
     ParallelRunner runner(Threading{.threads = threads});
     const PartSet parts = buildParts(*scene, PartOptions{}, diagnostics);
@@ -218,11 +221,11 @@ int main(int argc, char** argv) {
     start = std::chrono::steady_clock::now();
     double cpu = cpuSeconds();
     VertexBake v_links;
-    for (int r = 0; r < repeat; ++r) v_links = bakeVertices(*scene, *solution, runner, nullptr, GatherMode::Links);
+    for (int r = 0; r < repeat; ++r) v_links = bakeVertices(*scene, *solution, readout, runner);
     const double t_links = seconds(start) / repeat, cpu_links = (cpuSeconds() - cpu) / repeat;
     // Work per vertex: the reconstruction at each vertex with its first face's normal.
     {
-        const LinkReconstruction links(*solution, runner);
+        const LinkReconstruction links(*solution, readout, runner);
         ProbeCounters counters;
         size_t n = 0;
         size_t fallback[4] = {0, 0, 0, 0}, fallback_rays[4] = {0, 0, 0, 0};
@@ -254,7 +257,7 @@ int main(int argc, char** argv) {
     double t_ref = 0.0;
     if (exhaustive_vertices) {
         start = std::chrono::steady_clock::now();
-        v_ref = bakeVertices(*scene, *solution, runner, nullptr, GatherMode::Exhaustive);
+        v_ref = bakeVertices(*scene, *solution, exhaustive_readout, runner);
         t_ref = seconds(start);
     }
     std::vector<std::pair<size_t, size_t>> vertices;
@@ -310,7 +313,7 @@ int main(int argc, char** argv) {
     options.texels_per_metre = density;
     LightmapLayout layout;
     if (!packLightmapCharts(buildLightmapCharts(*scene, options), options, layout, diagnostics)) return 1;
-    const LinkReconstruction links(*solution, runner);
+    const LinkReconstruction links(*solution, readout, runner);
     // Work done, deterministic where times are not (a shared machine): rays and point form
     // factors over every evaluated texel.
     std::atomic<size_t> texel_rays{0}, texel_form_factors{0};
@@ -323,7 +326,7 @@ int main(int argc, char** argv) {
         return h;
     };
     const IrradianceFunction exhaustive = [&](const SurfacePoint& at) {
-        return probeIrradiance(*solution, at.p_world, at.normal_world, at.mesh);
+        return probeIrradiance(*solution, readout, at.p_world, at.normal_world, at.mesh);
     };
     start = std::chrono::steady_clock::now();
     cpu = cpuSeconds();

@@ -13,8 +13,8 @@
 #include "radbake.h"
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
-#include "radiosity/gather.h"
-#include "radiosity/reconstruct.h"
+#include "readout/gather.h"
+#include "readout/reconstruct.h"
 
 using namespace radbake;
 
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
         const double d = pointPolygonDistance(p, tri);
         if (d < best) best = d, triangle = t;
     }
-    const LinkReconstruction links(s, runner);
+    const LinkReconstruction links(s, preset.readout, runner);
     const uint32_t leaf = links.leafAt(mesh_index, triangle, p);
     std::printf("triangle %u (distance %g), leaf %u\n", triangle, best, leaf);
     const auto describe = [&](uint32_t e) {
@@ -91,8 +91,15 @@ int main(int argc, char** argv) {
             // What the source brings at the point, gathered as the reconstruction gathers a
             // partly visible link (rays at the point), and unoccluded.
             const double lift = gather::kLift * s.scene_extent;
-            gather::Gatherer g{.s = s, .point = p, .normal = n, .origin = p + lift * n, .lift = lift,
-                               .coarse_rule = false, .coarse_rule_on_emitters = true, .max_visibility_splits = 1};
+            gather::Gatherer g{.s = s,
+                               .o = preset.readout,
+                               .point = p,
+                               .normal = n,
+                               .origin = p + lift * n,
+                               .lift = lift,
+                               .coarse_rule = false,
+                               .coarse_rule_on_emitters = true,
+                               .max_visibility_splits = 1};
             g.visit(link.source);
             const double with_rays = g.sum.x;
             g.sum = DVec3(0.0);
@@ -109,11 +116,16 @@ int main(int argc, char** argv) {
     std::printf("element links' gathered (red) %.5g; cluster links %zu in the solution\n", sum, s.cluster_links.size());
     // The exhaustive gather's share from each root (more than 1 % of the point's total).
     {
-        const DVec3 total = probeIrradiance(s, p, n, mesh_index);
+        const DVec3 total = probeIrradiance(s, preset.readout, p, n, mesh_index);
         const double lift = gather::kLift * s.scene_extent;
         const DVec3 point = gather::liftOffSurfaces(s, p, n, lift);
         for (uint32_t r = 0; r < s.root_count; ++r) {
-            gather::Gatherer g{.s = s, .point = point, .normal = n, .origin = point + lift * n, .lift = lift,
+            gather::Gatherer g{.s = s,
+                               .o = preset.readout,
+                               .point = point,
+                               .normal = n,
+                               .origin = point + lift * n,
+                               .lift = lift,
                                .use_rays = s.rays != nullptr};
             g.visit(r);
             if (g.sum.x > 0.01 * total.x) {
@@ -126,7 +138,7 @@ int main(int argc, char** argv) {
         }
     }
     const DVec3 h_links = links.irradiance(mesh_index, triangle, p, n);
-    const DVec3 h_exhaustive = probeIrradiance(s, p, n, mesh_index);
+    const DVec3 h_exhaustive = probeIrradiance(s, preset.readout, p, n, mesh_index);
     std::printf("H links %.5g %.5g %.5g\nH exhaustive %.5g %.5g %.5g\n", h_links.x, h_links.y, h_links.z,
                 h_exhaustive.x, h_exhaustive.y, h_exhaustive.z);
     {
@@ -168,7 +180,8 @@ int main(int argc, char** argv) {
             per_root[s.elements[lf].root] += s.elements[lf].radiosity.y / double(mc_rays);
         }
         for (const auto& [r, v] : per_root) {
-            gather::Gatherer g{.s = s, .point = point, .normal = n, .origin = o, .lift = lift, .use_rays = true};
+            gather::Gatherer g{
+                .s = s, .o = preset.readout, .point = point, .normal = n, .origin = o, .lift = lift, .use_rays = true};
             g.visit(r);
             if (v > 0.01 * sum.y || g.sum.y > 0.01 * sum.y)
                 std::printf("   root %u (centroid %.3f %.3f %.3f): rays %.4g, exhaustive %.4g (green)\n", r,

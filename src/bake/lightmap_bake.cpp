@@ -8,7 +8,7 @@
 #include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_seams.h"
 #include "geometry/polygon.h"
-#include "radiosity/reconstruct.h"
+#include "readout/reconstruct.h"
 #include "radiosity/solution.h"
 #include "visibility/ray_caster.h"
 
@@ -167,18 +167,17 @@ LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options
     return out;
 }
 
-bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
-                   Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress) {
+bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOptions& readout, LightmapCharts charts,
+                   ParallelRunner& runner, Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress) {
     const LightmapOptions& options = charts.options;
     LightmapLayout layout;
     if (!packLightmapCharts(std::move(charts.charts), options, layout, diagnostics)) return false;
-    // --texel-tolerance 0 is the exhaustive reference: every texel a full gather.
     std::optional<LinkReconstruction> links;
-    if (options.texel_tolerance > 0.0) links.emplace(solution, runner);
+    if (readout.gather == GatherMode::Links) links.emplace(solution, readout, runner);
     const IrradianceFunction irradiance = [&](const SurfacePoint& at) {
         return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world,
                                          LinkReconstruction::Reading::Texel)
-                     : probeIrradiance(solution, at.p_world, at.normal_world, at.mesh);
+                     : probeIrradiance(solution, readout, at.p_world, at.normal_world, at.mesh);
     };
     const HiddenTest hidden = [&](const SurfacePoint& at) {
         return solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);

@@ -12,6 +12,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "readout/readout_options.h"
 
 namespace radbake {
 
@@ -106,10 +107,12 @@ struct LightmapCharts {
 LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options);
 
 // The whole lightmap stage: packing, texels, dilation, then (options.stitch_seams) the
-// padding ring fitted to the chart edges and seams (lightmap_seams.h). False after reporting,
+// padding ring fitted to the chart edges and seams (lightmap_seams.h). Texels are read as
+// `readout` says (readout.gather: through the links, or the exhaustive gather). False after reporting,
 // or with nothing reported when the runner was cancelled.
 // `progress`, when given, moves through the phase (texels, then the seams).
-bool bakeLightmaps(const Scene& scene, const Solution& solution, LightmapCharts charts, ParallelRunner& runner,
-                   Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress = nullptr);
+bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOptions& readout, LightmapCharts charts,
+                   ParallelRunner& runner, Lightmaps& lightmaps, Diagnostics& diagnostics,
+                   Progress* progress = nullptr);
 
 }  // namespace radbake

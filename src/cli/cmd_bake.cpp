@@ -88,9 +88,9 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     solver.max_memory_mb = args.max_memory_mb;
     solver.clustering = !args.no_clustering;
     if (!args.edge_correction.empty())
-        solver.edge_correction = args.edge_correction == "on"       ? EdgeCorrection::On
-                                 : args.edge_correction == "shared" ? EdgeCorrection::Shared
-                                                                    : EdgeCorrection::Off;
+        options.readout.edge_correction = args.edge_correction == "on"       ? EdgeCorrection::On
+                                          : args.edge_correction == "shared" ? EdgeCorrection::Shared
+                                                                             : EdgeCorrection::Off;
     const double texel_tolerance = options.lightmaps.texel_tolerance;
     options.lightmaps = args.lightmaps;
     options.lightmaps.enabled = !args.no_lightmaps;

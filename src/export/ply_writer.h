@@ -17,7 +17,7 @@
 #include <filesystem>
 #include <string>
 
-#include "bake/vertex_bake.h"
+#include "readout/vertex_bake.h"
 #include "core/diagnostics.h"
 #include "export/lightmap_files.h"
 #include "scene/scene.h"

@@ -9,7 +9,7 @@
 
 #include "bake/lightmap_bake.h"
 #include "bake/lightmap_mesh.h"
-#include "bake/vertex_bake.h"
+#include "readout/vertex_bake.h"
 #include "core/diagnostics.h"
 #include "core/parallel.h"
 #include "export/exr_io.h"

@@ -46,12 +46,13 @@ LightmapOptions lightmapOptions(const LightmapSettings& settings) {
 }
 
 // Each probe writes its own slot, so the values do not depend on the thread count.
-std::vector<DVec3> evaluateProbes(const Solution& solution, const std::vector<Probe>& probes, double metres_per_unit,
-                                  ParallelRunner& runner, Progress& progress) {
+std::vector<DVec3> evaluateProbes(const Solution& solution, const ReadoutOptions& readout,
+                                  const std::vector<Probe>& probes, double metres_per_unit, ParallelRunner& runner,
+                                  Progress& progress) {
     std::vector<DVec3> irradiance(probes.size());
     std::atomic<size_t> done{0};
     runner.forEach(probes.size(), 4, [&](size_t i) {
-        irradiance[i] = probeIrradiance(solution, probes[i].position * metres_per_unit, probes[i].normal);
+        irradiance[i] = probeIrradiance(solution, readout, probes[i].position * metres_per_unit, probes[i].normal);
         progress.update(static_cast<double>(++done) / static_cast<double>(probes.size()));
     });
     return irradiance;
@@ -189,9 +190,10 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     out.report.solve = out.solution->stats;
 
     progress.beginPhase("vertices");
-    // --texel-tolerance 0 (the reference preset) reads every vertex with the exhaustive gather too.
-    const GatherMode gather = options.lightmaps.texel_tolerance > 0.0 ? GatherMode::Links : GatherMode::Exhaustive;
-    out.vertices = bakeVertices(scene, *out.solution, runner, &progress, gather);
+    // --texel-tolerance 0 (the reference preset) reads every vertex and texel with the exhaustive gather.
+    ReadoutOptions readout = options.readout;
+    if (!(options.lightmaps.texel_tolerance > 0.0)) readout.gather = GatherMode::Exhaustive;
+    out.vertices = bakeVertices(scene, *out.solution, readout, runner, &progress);
     if (stopped()) return;
 
     if (charts) {
@@ -199,7 +201,8 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         const LightmapOptions used = charts->options;
         BakedLightmaps baked;
         const bool baked_ok =
-            bakeLightmaps(scene, *out.solution, std::move(*charts), runner, baked.lightmaps, diagnostics, &progress);
+            bakeLightmaps(scene, *out.solution, readout, std::move(*charts), runner, baked.lightmaps, diagnostics,
+                          &progress);
         if (stopped()) return;
         if (!baked_ok) {
             out.status = BakeStatus::InputError;
@@ -214,7 +217,8 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
 
     if (options.probes) {
         progress.beginPhase("probes");
-        out.probe_irradiance = evaluateProbes(*out.solution, *options.probes, metres_per_unit, runner, progress);
+        out.probe_irradiance =
+            evaluateProbes(*out.solution, readout, *options.probes, metres_per_unit, runner, progress);
         if (stopped()) return;
     }
     if (options.preview) {

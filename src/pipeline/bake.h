@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bake/lightmap_bake.h"
-#include "bake/vertex_bake.h"
+#include "readout/vertex_bake.h"
 #include "core/diagnostics.h"
 #include "core/progress.h"
 #include "export/lightmap_files.h"

@@ -15,6 +15,7 @@ double texelToleranceFor(Quality quality) {
 BakeOptions BakeOptions::forQuality(Quality quality) {
     BakeOptions options;
     options.solver = SolverOptions::forQuality(quality);
+    options.readout = ReadoutOptions::forQuality(quality);
     options.lightmaps.texel_tolerance = texelToleranceFor(quality);
     return options;
 }

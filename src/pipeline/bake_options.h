@@ -13,6 +13,7 @@
 #include "io/import.h"
 #include "pipeline/lightmap_scales.h"
 #include "radiosity/solver_options.h"
+#include "readout/readout_options.h"
 
 namespace radbake {
 
@@ -33,6 +34,9 @@ struct LightmapSettings {
 struct BakeOptions {
     ImportOptions import;              // when bake() reads the scene from a path
     SolverOptions solver;
+    // How vertices, texels and probes read the solution (with lightmaps.texel_tolerance 0, the
+    // exhaustive gather whatever readout.gather says).
+    ReadoutOptions readout;
     LightmapSettings lightmaps;
     // Points whose irradiance H (W/m^2) the bake reports (probes.csv), positions in the scene
     // file's units; nullopt: no probes.csv (an empty list writes one with its header only).
@@ -46,7 +50,7 @@ struct BakeOptions {
     std::string solution_file;
     Threading threading;               // every phase's threads (0: all cores; not pinned)
 
-    // Every preset of `quality`: the solver's knobs and the texel tolerance.
+    // Every preset of `quality`: the solver's and the read-out's knobs and the texel tolerance.
     static BakeOptions forQuality(Quality quality);
 };
 

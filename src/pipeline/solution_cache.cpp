@@ -104,15 +104,12 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
         k.add(l.attenuation), k.add(l.radius), k.add(l.beam_width), k.add(l.cut_off_angle), k.add(l.on);
         k.add(l.scoped), k.addAll(l.scope);
     }
-    // Every knob but max_memory_mb (a budget stops a solve, it does not change it).
+    // Every solver knob but max_memory_mb (a budget stops a solve, it does not change it); the
+    // read-out's knobs (ReadoutOptions) are not the solver's, so changing them reuses the solution.
     k.add(o.visibility), k.add(o.quality), k.add(o.error_threshold), k.add(o.min_element_area);
     k.add(o.iteration_tolerance), k.add(o.max_iterations), k.add(o.refine_rounds), k.add(o.quadrature_order);
     k.add(o.quadrature_near_ratio), k.add(o.quadrature_max_depth), k.add(o.visibility_samples);
-    k.add(o.probe_opening), k.add(o.probe_samples), k.add(o.probe_visibility_ratio), k.add(o.probe_visibility_coarse);
-    k.add(o.probe_corner_rays);
-    k.add(o.probe_grazing_corner_rays);
     k.add(o.area_exponent), k.add(o.clustering), k.add(o.local_error_threshold), k.add(o.keep_blocked_links);
-    k.add(o.edge_correction);
     return sha256Hex(k.bytes);
 }
 

@@ -5,7 +5,8 @@
 //
 // The key is a SHA-256 of what the solve depends on: the scene as imported (geometry,
 // per-polygon reflectance and emission, lights; so --unit-scale, --emission-scale, an edited
-// texture or Inline'd file all change it), every solver knob but the memory budget, and the
+// texture or Inline'd file all change it), every solver knob but the memory budget (never the
+// read-out's: --edge-correction, the texel settings), and the
 // radbake version and record sizes. A file whose key differs is not read (the bake solves and
 // overwrites it). The ray caster is rebuilt from the scene on load.
 #include <filesystem>

@@ -117,13 +117,5 @@ struct Solution {
     Solution& operator=(Solution&&) noexcept;
 };
 
-// Irradiance H (W/m^2, DESIGN.md section 2) arriving at `point` on a surface facing `normal`
-// (unit), gathered from the solved hierarchy (point-to-polygon form factors, visibility by
-// rays) plus the direct light of punctual lights. Per channel. A point on a surface of
-// Scene::meshes[receiver_mesh] takes only the punctual lights whose scope holds that mesh
-// (Light::lights: a VRML DirectionalLight lights its siblings only); a probe
-// (receiver_mesh = 0xffffffff, punctual_lights.h's kAnyMesh) takes them all.
-DVec3 probeIrradiance(const Solution& solution, const DVec3& point, const DVec3& normal,
-                      uint32_t receiver_mesh = 0xffffffffu);
 
 }  // namespace radbake

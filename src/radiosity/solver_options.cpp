@@ -18,15 +18,9 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.quadrature_near_ratio = 0.5;
             o.quadrature_max_depth = 1;
             o.visibility_samples = 2;
-            o.probe_opening = 0.7;
-            o.probe_samples = 2;
-            o.probe_visibility_ratio = 0.03;
-            o.probe_visibility_coarse = 0.2;
-            o.edge_correction = EdgeCorrection::Off;
-            o.probe_grazing_corner_rays = false;
             break;
         case Quality::Medium:
-            break;  // the defaults in solver.h
+            break;  // the struct's defaults
         case Quality::High:
             o.error_threshold = 5e-5;
             o.min_element_area = 2.5e-5;
@@ -38,12 +32,6 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.quadrature_near_ratio = 1.0;
             o.quadrature_max_depth = 3;
             o.visibility_samples = 4;
-            o.probe_opening = 0.35;
-            o.probe_samples = 3;
-            o.probe_visibility_ratio = 0.005;
-            o.probe_visibility_coarse = 0.07;
-            o.probe_corner_rays = true;
-            o.edge_correction = EdgeCorrection::On;
             break;
         case Quality::Reference:
             o.error_threshold = 1e-5;
@@ -56,12 +44,6 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.quadrature_near_ratio = 1.5;
             o.quadrature_max_depth = 4;
             o.visibility_samples = 6;
-            o.probe_opening = 0.2;
-            o.probe_samples = 4;
-            o.probe_visibility_ratio = 0.002;
-            o.probe_visibility_coarse = 0.05;
-            o.probe_corner_rays = true;
-            o.edge_correction = EdgeCorrection::On;
             break;
     }
     return o;

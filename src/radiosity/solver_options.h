@@ -22,21 +22,6 @@ struct PartSet;
 // (conservative); rays only for the links that stay partly hidden.
 enum class LinkVisibility { Rays, Aabb, Obb, Exact };
 enum class Quality { Draft, Medium, High, Reference };
-// Where the link reconstruction corrects a point on a concave edge or corner for the darkening
-// of the face beside it (reconstruct.cpp, edgeTerms).
-enum class EdgeCorrection {
-    Off,
-    // At output vertices whose faces beside have vertices at the same point (a room's edges
-    // and corners): the vertex bake reads those faces there anyway, so the correction costs
-    // only its weights. And at lightmap texels on a concave edge, reading the faces beside
-    // once more through their links (few texels: 7 % more lightmap time on the tessellated
-    // Cornell box at 64 texels/m).
-    Shared,
-    // Also at every other output vertex and probe that touches a concave edge (a block's foot
-    // on a floor), reading the faces beside once more through their links.
-    On,
-};
-
 // Every threshold is relative to the scene, so a scene scaled by any factor (1e-4, 1e6)
 // refines the same way:
 //   - a link (receiver R, source S) is refined while
@@ -77,28 +62,6 @@ struct SolverOptions {
     int quadrature_max_depth = 2;      // towards a touching source (the singularity is mild:
                                        // 1e-6 relative on unit squares sharing an edge)
     int visibility_samples = 3;        // rays per side for a partial link (n x n segments)
-    double probe_opening = 0.5;        // probes open an element when radius / distance exceeds this
-    int probe_samples = 2;             // rays per side from a probe to each element it gathers from (>= 2)
-    double probe_visibility_ratio = 0.01;  // a partly visible element (its rays disagree) is opened, below
-                                           // a leaf its polygon split, until radius / distance is below this
-    double probe_visibility_coarse = 0.1;  // every element is opened (split) for probe rays down to this
-                                           // radius / distance, so a sliver of light is not lost between rays
-    // A piece's corner of highest kernel gets a ray of its own, and a piece found partly hidden
-    // that no rule splits further is cast again at twice the rays a side (gather.h,
-    // castVisibility): a shadow edge along a piece's border slips between its n x n rays. The
-    // ceiling above the tessellated Cornell box's lamp sees the walls' tops through a 1 cm gap:
-    // its 8 vertices +14 % without, +2 % with; about 2 x the rays of house.wrl's texels and
-    // vertices at medium, so on at high and reference only.
-    bool probe_corner_rays = false;
-    // The same corner ray (and the recast) on a piece near the point's horizon whose kernel is
-    // steep toward that corner only (gather.h, kGrazingKernelRatio): that ceiling +14 % -> -4 %,
-    // for 6 % more rays on house.wrl. Medium; high and reference cast corner rays everywhere.
-    bool probe_grazing_corner_rays = true;
-    // The tessellated Cornell box's output vertices (session 11, 65,536-path reference): Off
-    // 2.0 % RMS; Shared 1.50 %, p95 1.88 %, its blocks' feet uncorrected (+8 to +24 %); On 1.28 %,
-    // p95 1.75 %, feet within 6 % but for one corner, for 2.4 x house.wrl's vertex time (0.75 ->
-    // 1.8 s of a 33 s bake with lightmaps; texels cost the same in both). Off at draft, On above.
-    EdgeCorrection edge_correction = EdgeCorrection::On;
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
     // Links start between clusters of roots (cluster.h) instead of between every pair of
     // roots: linking in O(n log n) instead of O(n^2). Off: every facing pair of roots.

@@ -8,7 +8,7 @@
 
 #include "bake/lightmap_mesh.h"
 #include "bake/lightmap_seams.h"
-#include "bake/vertex_bake.h"
+#include "readout/vertex_bake.h"
 #include "../radiosity/test_scenes.h"
 #include "lightmap_test_scenes.h"
 
@@ -201,7 +201,8 @@ TEST_CASE("lit box room: the lightmap at each chart corner agrees with the verte
     SolverOptions solver = SolverOptions::forQuality(Quality::Draft);
     const auto solution = solve(scene, solver, diagnostics);
     REQUIRE(solution);
-    const VertexBake vertex_bake = bakeVertices(scene, *solution, test::testRunner());
+    const VertexBake vertex_bake =
+        bakeVertices(scene, *solution, ReadoutOptions::forQuality(solution->options.quality), test::testRunner());
 
     LightmapOptions options;
     // 64 x 64 texels on the floor: a texel (3 cm) finer than the walls' 5 cm strip above the
@@ -233,10 +234,12 @@ TEST_CASE("lit box room: the lightmap at each chart corner agrees with the verte
     // lightmap_seams.cpp) and float rounding. Tolerance 2e-3 relative.
     options.stitch_seams = false;
     Lightmaps dilated;
-    REQUIRE(bakeLightmaps(scene, *solution, chartLightmaps(scene, options), test::testRunner(), dilated, diagnostics));
+    REQUIRE(bakeLightmaps(scene, *solution, ReadoutOptions::forQuality(solution->options.quality),
+                          chartLightmaps(scene, options), test::testRunner(), dilated, diagnostics));
     options.stitch_seams = true;
     Lightmaps stitched;
-    REQUIRE(bakeLightmaps(scene, *solution, chartLightmaps(scene, options), test::testRunner(), stitched, diagnostics));
+    REQUIRE(bakeLightmaps(scene, *solution, ReadoutOptions::forQuality(solution->options.quality),
+                          chartLightmaps(scene, options), test::testRunner(), stitched, diagnostics));
     size_t corners_dilated = 0, corners_stitched = 0;
     const double gap_dilated = cornerGaps(dilated, corners_dilated);
     const double gap_stitched = cornerGaps(stitched, corners_stitched);

@@ -16,6 +16,7 @@
 #include "io/import.h"
 #include "radiosity/solution.h"
 #include "radiosity/solver.h"
+#include "readout/evaluate_probe.h"
 #include "scene/two_sided.h"
 
 namespace {
@@ -57,7 +58,8 @@ int solveAndCompare(const std::string& name) {
         double v[10] = {};
         for (int k = 0; k < 10 && std::getline(fields, field, ','); ++k) v[k] = std::stod(field);
         REQUIRE(i < probes->size());
-        const DVec3 h = probeIrradiance(*solution, (*probes)[i].position, (*probes)[i].normal);
+        const DVec3 h = probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality),
+                                        (*probes)[i].position, (*probes)[i].normal);
         const double rel = std::abs(h.x - v[6]) / v[6];
         if (rel > v[9]) {
             ++misses;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../radiosity/test_scenes.h"
+#include "readout/evaluate_probe.h"
 #include "scene/validate.h"
 
 using namespace radbake;
@@ -126,7 +127,8 @@ TEST_CASE("extremes: touching squares scaled by 1e-4 and 1e6 keep F and the near
             const double exact = kPi * pointFormFactor(p, {0, 0, 1}, wall);
             // 1 %: probes gather from the hierarchy with point-to-polygon form factors (opened
             // near the source); exact but for float positions and ray visibility.
-            CHECK(probeIrradiance(*solution, p, {0, 0, 1}).x == rel(exact, 1e-2));
+            CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, 1}).x ==
+                  rel(exact, 1e-2));
         }
     }
 }
@@ -148,7 +150,8 @@ TEST_CASE("extremes: a coloured furnace (rho 0.5 / 0.99 / 0.999 per channel) at 
         const DVec3 expected(kPi / (1.0 - double(0.5f)), kPi / (1.0 - double(0.99f)), kPi / (1.0 - double(0.999f)));
         const DVec3 points[][2] = {{{0.5, 0.5, 0.0}, {0, 0, 1}}, {{0.02, 0.03, 0.0}, {0, 0, 1}}, {{0.0, 0.5, 0.7}, {1, 0, 0}}};
         for (const auto& probe : points) {
-            const DVec3 h = probeIrradiance(*solution, probe[0] * double(scale), probe[1]);
+            const DVec3 h = probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality),
+                                            probe[0] * double(scale), probe[1]);
             CAPTURE(probe[0]);
             // 1 % at 0.99 (issue 6's definition of done); 2 % at 0.999, the analytic file's
             // tolerance (a row-sum error e shows as e / (1 - rho) = 1000 e).
@@ -213,8 +216,8 @@ TEST_CASE("extremes: a 1e6:1 sliver triangle beside a large floor changes nothin
         }
         for (const DVec3& p : {DVec3(0, 0, 0), DVec3(1.2, -1.2, 0), DVec3(1.4999, 0.0, 0)}) {
             CAPTURE(p);
-            CHECK(probeIrradiance(*solution, p, {0, 0, 1}).x ==
-                  rel(probeIrradiance(*base, p, {0, 0, 1}).x, 1e-3));
+            CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, 1}).x ==
+                  rel(probeIrradiance(*base, ReadoutOptions::forQuality(base->options.quality), p, {0, 0, 1}).x, 1e-3));
         }
         // The sliver's radiosity is rho times its area-mean irradiance: the width grows
         // linearly to the apex, so probes along the base weighted by 1 - |t|.
@@ -223,7 +226,8 @@ TEST_CASE("extremes: a 1e6:1 sliver triangle beside a large floor changes nothin
         for (int i = -20; i <= 20; ++i) {
             const double t = i / 20.0, w = 1.0 - std::abs(t);
             const DVec3 p = sliver == 1 ? DVec3(1.5 + 1e-6, 1.5 * t, 0.0) : DVec3(1.5 * t, 0.0, 1e-6);
-            const double h = probeIrradiance(*solution, p, s.normal).x;
+            const double h =
+                probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, s.normal).x;
             h_mean += w * h;
             weights += w;
             h_min = std::min(h_min, h);
@@ -291,9 +295,12 @@ TEST_CASE("extremes: emitters 1e8 apart: superposition, and the dim one's light 
                                {{4.5, 1.5, 0.0}, {0, 0, 1}}, {{3.0, 1.0, 1.0}, {1, 0, 0}}, {{4.0, 1.3, 0.0}, {0, 0, 1}}};
     for (const auto& probe : probes) {
         CAPTURE(probe[0]);
-        const double h_both = probeIrradiance(*both, probe[0], probe[1]).x;
-        const double h_bright = probeIrradiance(*bright, probe[0], probe[1]).x;
-        const double h_dim = probeIrradiance(*dim, probe[0], probe[1]).x;
+        const double h_both =
+            probeIrradiance(*both, ReadoutOptions::forQuality(both->options.quality), probe[0], probe[1]).x;
+        const double h_bright =
+            probeIrradiance(*bright, ReadoutOptions::forQuality(bright->options.quality), probe[0], probe[1]).x;
+        const double h_dim =
+            probeIrradiance(*dim, ReadoutOptions::forQuality(dim->options.quality), probe[0], probe[1]).x;
         if (probe[0].x > 2.5) {  // the dim room: nothing from the bright lamp, the dim one exact
             const double exact = kPi * pointFormFactor(probe[0], probe[1], dim_lamp);
             CHECK(h_bright == 0.0);
@@ -348,8 +355,10 @@ TEST_CASE("extremes: a grey dim room beside one 1e8 brighter is refined as if it
                                {{5.0, 1.5, 0.5}, {-1, 0, 0}}, {{4.5, 1.5, 0.0}, {0, 0, 1}}, {{4.0, 0.0, 1.5}, {0, 1, 0}}};
     for (const auto& probe : probes) {
         CAPTURE(probe[0]);
-        const double h_both = probeIrradiance(*both, probe[0], probe[1]).x;
-        const double h_alone = probeIrradiance(*alone, probe[0], probe[1]).x;
+        const double h_both =
+            probeIrradiance(*both, ReadoutOptions::forQuality(both->options.quality), probe[0], probe[1]).x;
+        const double h_alone =
+            probeIrradiance(*alone, ReadoutOptions::forQuality(alone->options.quality), probe[0], probe[1]).x;
         MESSAGE("dim room probe " << probe[0].x << " " << probe[0].y << " " << probe[0].z << ": beside "
                                   << h_both << ", alone " << h_alone << " (" << 100.0 * (h_both / h_alone - 1.0) << " %)");
         CHECK(h_alone > 0.0);
@@ -383,7 +392,8 @@ TEST_CASE("extremes: a coplanar duplicate floor is reported, and the answer stay
     for (const DVec3& p : {DVec3(0, 0, 0), DVec3(0.5, 0.5, 0), DVec3(1.2, -0.7, 0)}) {
         CAPTURE(p);
         const double exact = kPi * pointFormFactor(p, {0, 0, 1}, lamp);
-        CHECK(probeIrradiance(*solution, p, {0, 0, 1}).x == rel(exact, 1e-3));
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, 1}).x ==
+              rel(exact, 1e-3));
     }
     // Both copies: B = rho H with H the lamp's mean over the floor, the same for each.
     const double b0 = rootOfMesh(*solution, 0).radiosity.x, b2 = rootOfMesh(*solution, 2).radiosity.x;
@@ -410,7 +420,8 @@ TEST_CASE("extremes: a coplanar face half overlapping the floor is reported, and
     const std::vector<DVec3> lamp = quadOf(scene, 1);
     for (const DVec3& p : {DVec3(0, 0, 0), DVec3(0.5, 0.5, 0), DVec3(2.5, -0.7, 0)}) {
         CAPTURE(p);
-        CHECK(probeIrradiance(*solution, p, {0, 0, 1}).x == rel(kPi * pointFormFactor(p, {0, 0, 1}, lamp), 1e-3));
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, 1}).x ==
+              rel(kPi * pointFormFactor(p, {0, 0, 1}, lamp), 1e-3));
     }
 }
 
@@ -446,13 +457,18 @@ TEST_CASE("extremes: a scene of a single polygon") {
             for (const DVec3& p : {DVec3(0.5, 0.4, 1.0), DVec3(1.0, 0.5, 0.01), DVec3(-1.0, 3.0, 2.0)}) {
                 CAPTURE(p);
                 const double exact = kPi * emission * pointFormFactor(p, {0, 0, -1}, polygon);
-                const double h = probeIrradiance(*solution, p, {0, 0, -1}).x;
+                const double h =
+                    probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, -1}).x;
                 if (emission == 0.0f)
                     CHECK(h == 0.0);
                 else
                     CHECK(h == rel(exact, 1e-3));
-                CHECK(probeIrradiance(*solution, p, {0, 0, 1}).x == 0.0);  // facing away
-                CHECK(probeIrradiance(*solution, p - DVec3(0, 0, 2.0 * p.z), {0, 0, 1}).x == 0.0);  // behind it
+                CHECK(
+                    probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, 1}).x ==
+                    0.0);  // facing away
+                CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality),
+                                      p - DVec3(0, 0, 2.0 * p.z), {0, 0, 1})
+                          .x == 0.0);  // behind it
             }
         }
     }
@@ -487,11 +503,12 @@ TEST_CASE("extremes: an emitter facing away from everything lights nothing") {
     CHECK(lit == 0);
     for (const DVec3& p : {DVec3(0, 0, 0), DVec3(1.5, 1.5, 0), DVec3(0, 0, 1.19)}) {
         CAPTURE(p);
-        CHECK(probeIrradiance(*solution, p, {0, 0, 1}).x == 0.0);
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, 1}).x == 0.0);
     }
-    CHECK(probeIrradiance(*solution, {-2.0, 0.0, 0.9}, {1, 0, 0}).x == 0.0);  // a wall's top
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {-2.0, 0.0, 0.9}, {1, 0, 0})
+              .x == 0.0);  // a wall's top
     const std::vector<DVec3> polygon = quadOf(scene, lamp_mesh);
     const DVec3 above(0.2, 0.1, 2.0);
-    CHECK(probeIrradiance(*solution, above, {0, 0, -1}).x ==
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), above, {0, 0, -1}).x ==
           rel(kPi * 5.0 * pointFormFactor(above, {0, 0, -1}, polygon), 1e-3));
 }

@@ -13,6 +13,7 @@
 #include "export/probes.h"
 #include "io/import.h"
 #include "reference_mc.h"
+#include "readout/evaluate_probe.h"
 #include "scene/two_sided.h"
 #include "../radiosity/test_scenes.h"
 
@@ -193,7 +194,9 @@ TEST_CASE("reference MC and radbake agree on a two-sided partition lit from one 
     REQUIRE(solution.has_value());
     for (size_t i = 0; i < probes.size(); ++i) {
         CAPTURE(i);
-        const double h = probeIrradiance(*solution, probes[i].position, probes[i].normal).x;
+        const double h = probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality),
+                                         probes[i].position, probes[i].normal)
+                             .x;
         const double mean = expected[i].irradiance.x, se = expected[i].standard_error.x;
         MESSAGE("probe " << i << ": radbake " << h << ", reference " << mean << " +- " << se);
         CHECK(mean > 0.0);

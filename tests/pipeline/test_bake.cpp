@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <thread>
 #include <type_traits>
@@ -101,20 +102,23 @@ TEST_CASE("bake() gives what the stages give when called one by one") {
     const std::optional<Solution> solution =
         solveRadiosity(scene, parts, options.solver, runner, progress, diagnostics);
     REQUIRE(solution);
-    CHECK(bakeVertices(scene, *solution, runner).values == whole.vertices.values);
+    CHECK(bakeVertices(scene, *solution, ReadoutOptions::forQuality(solution->options.quality), runner).values ==
+          whole.vertices.values);
     LightmapOptions lightmap_options;
     lightmap_options.texel_tolerance = options.lightmaps.texel_tolerance;
     const std::optional<LightmapCharts> charts =
         chartLightmapsWithinBudget(scene, lightmap_options, LightmapBudget{}, diagnostics);
     REQUIRE(charts);
     Lightmaps lightmaps;
-    REQUIRE(bakeLightmaps(scene, *solution, *charts, runner, lightmaps, diagnostics));
+    REQUIRE(bakeLightmaps(scene, *solution, ReadoutOptions::forQuality(solution->options.quality), *charts, runner,
+                          lightmaps, diagnostics));
     REQUIRE(whole.lightmaps);
     REQUIRE(lightmaps.images.size() == whole.lightmaps->lightmaps.images.size());
     for (size_t k = 0; k < lightmaps.images.size(); ++k)
         CHECK(lightmaps.images[k].rgb == whole.lightmaps->lightmaps.images[k].rgb);
     REQUIRE(whole.probe_irradiance.size() == 2);
-    CHECK(whole.probe_irradiance[0] == probeIrradiance(*solution, DVec3(0.3, 0.3, 0.01), DVec3(0.0, 0.0, 1.0)));
+    CHECK(whole.probe_irradiance[0] == probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality),
+                                                       DVec3(0.3, 0.3, 0.01), DVec3(0.0, 0.0, 1.0)));
     CHECK(whole.probe_irradiance[0].x > 0.0);
     CHECK(whole.report.solve.links == solution->stats.links);
     CHECK(whole.report.lightmaps.covered_texels == lightmaps.covered_texels);
@@ -303,13 +307,14 @@ static_assert(std::is_same_v<decltype(&solveRadiosity),
                              std::optional<Solution> (*)(const Scene&, const PartSet&, const SolverOptions&,
                                                          ParallelRunner&, Progress&, Diagnostics&)>);
 static_assert(std::is_same_v<decltype(&bakeVertices),
-                             VertexBake (*)(const Scene&, const Solution&, ParallelRunner&, Progress*, GatherMode)>);
+                             VertexBake (*)(const Scene&, const Solution&, const ReadoutOptions&, ParallelRunner&,
+                                            Progress*)>);
 static_assert(std::is_same_v<decltype(&chartLightmapsWithinBudget),
                              std::optional<LightmapCharts> (*)(const Scene&, LightmapOptions, const LightmapBudget&,
                                                                Diagnostics&)>);
 static_assert(std::is_same_v<decltype(&bakeLightmaps),
-                             bool (*)(const Scene&, const Solution&, LightmapCharts, ParallelRunner&, Lightmaps&,
-                                      Diagnostics&, Progress*)>);
+                             bool (*)(const Scene&, const Solution&, const ReadoutOptions&, LightmapCharts,
+                                      ParallelRunner&, Lightmaps&, Diagnostics&, Progress*)>);
 static_assert(std::is_same_v<decltype(&writeBake),
                              bool (*)(const Bake&, const std::filesystem::path&, Diagnostics&, WrittenBake*)>);
 
@@ -327,6 +332,49 @@ TEST_CASE("a bake over its memory budget stops with an error naming the budget, 
     // The default budget is the machine's: a bake well within it runs.
     options.solver.max_memory_mb = 0.0;
     CHECK(bakeQuietly(litRoom(), options).ok());
+}
+
+// Every output of a bake written into `dir` but timings.json (what the run cost), by name.
+std::map<std::string, std::string> writtenBytes(const Bake& baked, const std::filesystem::path& dir) {
+    Diagnostics diagnostics;
+    REQUIRE(writeBake(baked, dir, diagnostics));
+    std::map<std::string, std::string> files;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir))
+        if (entry.is_regular_file() && entry.path().filename() != "timings.json")
+            files[std::filesystem::relative(entry.path(), dir).string()] = testfs::readBytes(entry.path());
+    return files;
+}
+
+TEST_CASE("a read-out-only change reuses the saved solution and writes a fresh bake's bytes") {
+    const Scene scene = litRoom();
+    TempDir dir;
+    BakeOptions options = BakeOptions::forQuality(Quality::Medium);
+    options.threading.threads = 2;
+    options.probes = std::vector<Probe>{{DVec3(0.3, 0.3, 0.01), DVec3(0.0, 0.0, 1.0), {}}};
+    options.solution_file = (dir.path / "lit_room.solution").string();
+    const Bake first = bakeQuietly(scene, options);
+    REQUIRE(first.ok());
+    const auto solved = [](const Bake& b) {
+        return std::any_of(b.report.phases.begin(), b.report.phases.end(),
+                           [](const auto& phase) { return phase.first.rfind("links", 0) == 0; });
+    };
+    REQUIRE(solved(first));
+    // Every read-out knob changed at once, and the texel tolerance: none changes the solution.
+    options.readout = ReadoutOptions::forQuality(Quality::High);
+    options.readout.edge_correction = EdgeCorrection::Shared;
+    options.lightmaps.texel_tolerance = 0.005;
+    const Bake reused = bakeQuietly(scene, options);
+    CHECK_FALSE(solved(reused));
+    BakeOptions fresh_options = options;
+    fresh_options.solution_file.clear();
+    const Bake fresh = bakeQuietly(scene, fresh_options);
+    REQUIRE(solved(fresh));
+    const auto reused_files = writtenBytes(reused, dir.path / "reused");
+    const auto fresh_files = writtenBytes(fresh, dir.path / "fresh");
+    CHECK(reused_files.size() >= 5);  // glb, PLY, EXR and PNG atlases, probes, stats, manifest
+    CHECK(reused_files == fresh_files);
+    // The read-out did change what was read: the first bake's vertices differ.
+    CHECK(first.vertices.values != reused.vertices.values);
 }
 
 TEST_CASE("a saved solution is reused by a bake with other lightmap settings, and gives a fresh bake's outputs") {

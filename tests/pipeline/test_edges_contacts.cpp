@@ -14,7 +14,7 @@
 #include "export/mesh_attributes.h"
 #include "radbake.h"
 #include "radiosity/form_factor.h"
-#include "radiosity/reconstruct.h"
+#include "readout/reconstruct.h"
 #include "visibility/ray_caster.h"
 #include "../export/temp_files.h"
 #include "reference_mc.h"
@@ -27,9 +27,9 @@ namespace {
 constexpr double kNudge = 1e-4;
 
 Bake bakeFile(const std::string& path, std::optional<std::vector<Probe>> probes = std::nullopt,
-              EdgeCorrection edge_correction = SolverOptions{}.edge_correction) {
+              EdgeCorrection edge_correction = ReadoutOptions{}.edge_correction) {
     BakeOptions options = BakeOptions::forQuality(Quality::Medium);
-    options.solver.edge_correction = edge_correction;
+    options.readout.edge_correction = edge_correction;
     options.lightmaps.enabled = false;
     options.threading.threads = 2;
     options.probes = std::move(probes);
@@ -312,7 +312,11 @@ TEST_CASE("floor vertices where blocks' feet cross its tiles read near the exhau
     ErrorTally vertices;
     for (size_t v = 0; v < floor.positions.size(); ++v) {
         const DVec3 p(floor.positions[v]);
-        const double expected = probeIrradiance(*baked.solution, p, {0, 1, 0}, 0).x / kPi;
+        const double expected =
+            probeIrradiance(*baked.solution, ReadoutOptions::forQuality(baked.solution->options.quality), p, {0, 1, 0},
+                            0)
+                .x /
+            kPi;
         if (!(expected > 0.01)) continue;  // under a block
         vertices.add(values[v].x, expected);
     }
@@ -384,7 +388,11 @@ TEST_CASE("lightmap texels under a block standing on the floor are hidden and do
         if (d < 0.2 * texel || d > 2.0 * texel) continue;
         const LightmapImage& image = lightmaps.images[uv_mesh.atlas[v]];
         const DVec2 at(uv_mesh.uv[v].x * image.width, uv_mesh.uv[v].y * image.height);
-        const double expected = probeIrradiance(*baked.solution, p, {0, 1, 0}, 0).x / kPi;
+        const double expected =
+            probeIrradiance(*baked.solution, ReadoutOptions::forQuality(baked.solution->options.quality), p, {0, 1, 0},
+                            0)
+                .x /
+            kPi;
         beside.add(bilinearLookup(image, at).x, expected);
     }
     CHECK(beside.count >= 8);
@@ -407,7 +415,7 @@ TEST_CASE("a room's corner vertices and lightmap against the Monte Carlo referen
     const std::string path = testfs::writeText(dir, "room.wrl", tiledRoom());
     const auto lightmapped = [&](EdgeCorrection edge_correction) {
         BakeOptions options = BakeOptions::forQuality(Quality::Medium);
-        options.solver.edge_correction = edge_correction;
+        options.readout.edge_correction = edge_correction;
         options.lightmaps.texels_per_unit = 64.0;
         options.threading.threads = 2;
         Progress progress(false);
@@ -417,7 +425,7 @@ TEST_CASE("a room's corner vertices and lightmap against the Monte Carlo referen
         REQUIRE(baked.lightmaps);
         return baked;
     };
-    const Bake baked = lightmapped(SolverOptions{}.edge_correction), uncorrected = lightmapped(EdgeCorrection::Off);
+    const Bake baked = lightmapped(ReadoutOptions{}.edge_correction), uncorrected = lightmapped(EdgeCorrection::Off);
     // The lightmap of `b` at mesh m's point p, bilinear as an engine samples it.
     const auto lookup = [](const Bake& b, size_t m, const DVec3& p) {
         const LightmapMesh uv_mesh = lightmapMeshes(*b.scene, b.lightmaps->lightmaps.layout)[m];
@@ -486,7 +494,7 @@ TEST_CASE("a room's corner vertices and lightmap against the Monte Carlo referen
 // The ceiling above a lamp hung 1 cm under it sees only the walls' tops, through the gap, where
 // the lamp hides the lower part of each wall tile, which the ceiling's cosine weights most.
 // Against the same solution read with exact visibility (cosine-distributed rays, each bringing
-// the radiosity of the leaf it meets): with SolverOptions::probe_corner_rays (high, reference)
+// the radiosity of the leaf it meets): with ReadoutOptions::probe_corner_rays (high, reference)
 // or probe_grazing_corner_rays (medium) the read-out is within a few percent; with neither
 // +10 % (+14 % on the tessellated Cornell box).
 TEST_CASE("the ceiling above a lamp 1 cm under it, read through the gap") {
@@ -497,8 +505,8 @@ TEST_CASE("the ceiling above a lamp 1 cm under it, read through the gap") {
         const int corner_rays = static_cast<int>(corners);
         CAPTURE(corner_rays);
         BakeOptions options = BakeOptions::forQuality(Quality::Medium);
-        options.solver.probe_corner_rays = corners == Corners::All;
-        options.solver.probe_grazing_corner_rays = corners == Corners::Grazing;
+        options.readout.probe_corner_rays = corners == Corners::All;
+        options.readout.probe_grazing_corner_rays = corners == Corners::Grazing;
         options.lightmaps.enabled = false;
         options.threading.threads = 2;
         const std::vector<DVec3> points = {{0.5625, 1, 0.5}, {0.4375, 1, 0.4375}, {0.5, 1, 0.5625}};
@@ -511,7 +519,7 @@ TEST_CASE("the ceiling above a lamp 1 cm under it, read through the gap") {
         REQUIRE(std::string(toString(baked.status)) == "ok");
         const Solution& s = *baked.solution;
         ParallelRunner runner(Threading{.threads = 1});
-        const LinkReconstruction links(s, runner);
+        const LinkReconstruction links(s, ReadoutOptions::forQuality(s.options.quality), runner);
         ErrorTally tally;
         for (size_t i = 0; i < points.size(); ++i) {
             // Exact visibility: 400k cosine-distributed rays from just under the ceiling.

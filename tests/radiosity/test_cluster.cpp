@@ -12,6 +12,7 @@
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/refine.h"
+#include "readout/evaluate_probe.h"
 #include "visibility/ray_caster.h"
 #include "test_scenes.h"
 
@@ -265,8 +266,10 @@ TEST_CASE("a closed dark room beside a bright one stays exactly black (clusters 
     size_t deferred = 0;
     for (const ClusterLink& link : solution->cluster_links) deferred += link.visibility < 0.0f ? 1 : 0;
     CHECK(deferred > 0);
-    CHECK(probeIrradiance(*solution, {1.5, 0.0, 1.5}, {0, 1, 0}).x == 0.0);
-    CHECK(probeIrradiance(*solution, {1.5, 0.0, 1.5}, {0, 1, 0}).x == 0.0);
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {1.5, 0.0, 1.5}, {0, 1, 0})
+              .x == 0.0);
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {1.5, 0.0, 1.5}, {0, 1, 0})
+              .x == 0.0);
 }
 
 TEST_CASE("two rooms joined by a doorway exchange light only through it") {
@@ -289,7 +292,9 @@ TEST_CASE("two rooms joined by a doorway exchange light only through it") {
     CHECK(closet >= 6);
     CHECK(nonzero == 0);
     // B's far wall (x = 2.05, facing -x) faces the door and is lit; with the door shut, not.
-    CHECK(probeIrradiance(*solution, {2.05, 0.3, 1.5}, {-1, 0, 0}).x > 0.0);
+    CHECK(
+        probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {2.05, 0.3, 1.5}, {-1, 0, 0})
+            .x > 0.0);
 }
 
 // At draft (one round) nothing refines the first round's links away: a faint separable cluster
@@ -431,7 +436,9 @@ TEST_CASE("tessellated closed furnace with clusters: B = pi L_e / (1 - rho) with
                        << power / area / expected - 1.0);
         CHECK(worst < 0.01);
         CHECK(power / area == doctest::Approx(expected).epsilon(0.001).scale(0.0));
-        CHECK(probeIrradiance(*solution, {0.5, 0.5, 1.0}, {0, 0, 1}).x == doctest::Approx(expected).epsilon(0.01).scale(0.0));
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0.5, 0.5, 1.0},
+                              {0, 0, 1})
+                  .x == doctest::Approx(expected).epsilon(0.01).scale(0.0));
     }
 }
 
@@ -446,7 +453,8 @@ TEST_CASE("clustering on and off agree on a lit room") {
     CHECK(on->stats.links < off->stats.links);
     for (const DVec3& p : {DVec3(0.5, 0.0, 1.5), DVec3(0.5, 0.0, 0.3), DVec3(1.5, 0.0, 1.5), DVec3(2.0, 0.0, 0.5)}) {
         CAPTURE(p);
-        const double a = probeIrradiance(*on, p, {0, 1, 0}).x, b = probeIrradiance(*off, p, {0, 1, 0}).x;
+        const double a = probeIrradiance(*on, ReadoutOptions::forQuality(on->options.quality), p, {0, 1, 0}).x,
+                     b = probeIrradiance(*off, ReadoutOptions::forQuality(off->options.quality), p, {0, 1, 0}).x;
         CHECK(a == doctest::Approx(b).epsilon(0.03).scale(0.0));
     }
     MESSAGE("links: clustering " << on->stats.links << " (" << on->stats.cluster_links << " cluster), off "

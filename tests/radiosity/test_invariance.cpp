@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "test_scenes.h"
+#include "readout/evaluate_probe.h"
 
 using namespace radbake;
 using namespace radbake::test;
@@ -61,8 +62,10 @@ TEST_CASE("threads = 1 and 2 give the same result bytes") {
                          std::memcmp(&a.visibility, &b.visibility, sizeof(float)) != 0;
         }
         CHECK(differing == 0);
-        const DVec3 h1 = probeIrradiance(*one, {1.5, 1.5, 0.0}, {0, 0, 1});
-        const DVec3 h2 = probeIrradiance(*two, {1.5, 1.5, 0.0}, {0, 0, 1});
+        const DVec3 h1 =
+            probeIrradiance(*one, ReadoutOptions::forQuality(one->options.quality), {1.5, 1.5, 0.0}, {0, 0, 1});
+        const DVec3 h2 =
+            probeIrradiance(*two, ReadoutOptions::forQuality(two->options.quality), {1.5, 1.5, 0.0}, {0, 0, 1});
         CHECK(std::memcmp(&h1, &h2, sizeof(DVec3)) == 0);
         CHECK(h1.x > 0.0);
     }
@@ -107,9 +110,11 @@ TEST_CASE("a scene scaled by 1e-4 or 1e6 refines the same way and gives the same
                          << sum_scaled / sum_base - 1.0);
         CHECK(worst < 1e-2);
         CHECK(sum_scaled == doctest::Approx(sum_base).epsilon(3e-4).scale(0.0));
-        const double h_base = probeIrradiance(*base, {1.5, 1.5, 0.0}, {0, 0, 1}).x;
-        const double h_scaled =
-            probeIrradiance(*scaled, DVec3(1.5, 1.5, 0.0) * static_cast<double>(scale), {0, 0, 1}).x;
+        const double h_base =
+            probeIrradiance(*base, ReadoutOptions::forQuality(base->options.quality), {1.5, 1.5, 0.0}, {0, 0, 1}).x;
+        const double h_scaled = probeIrradiance(*scaled, ReadoutOptions::forQuality(scaled->options.quality),
+                                                DVec3(1.5, 1.5, 0.0) * static_cast<double>(scale), {0, 0, 1})
+                                    .x;
         CHECK(h_scaled == doctest::Approx(h_base).epsilon(1e-4).scale(0.0));
     }
 }

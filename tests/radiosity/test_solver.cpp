@@ -6,6 +6,7 @@
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
 #include "test_scenes.h"
+#include "readout/evaluate_probe.h"
 
 using namespace radbake;
 using namespace radbake::test;
@@ -44,7 +45,8 @@ TEST_CASE("closed emitting box: H = pi L_e / (1 - rho) everywhere (medium within
                                    {{0.0, 0.5, 0.7}, {1, 0, 0}},
                                    {{0.5, 0.5, 0.5}, {0, 0.6, 0.8}}};
         for (const auto& probe : points) {
-            const DVec3 h = probeIrradiance(*solution, probe[0], probe[1]);
+            const DVec3 h =
+                probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), probe[0], probe[1]);
             CAPTURE(probe[0]);
             CHECK(h.x == doctest::Approx(expected).epsilon(0.01).scale(0.0));
             CHECK(h.y == h.x);
@@ -97,12 +99,16 @@ TEST_CASE("irradiance below an emitting unit square: centre and corner (closed f
     // Centre: F = (4 / pi) (a / s) atan(a / s), a = 1/2, s = sqrt(a^2 + 1).
     const double s = std::sqrt(1.25);
     const double f_centre = 4.0 / kPi * (0.5 / s) * std::atan(0.5 / s);
-    CHECK(probeIrradiance(*solution, {0, 0, 0}, {0, 0, 1}).x == doctest::Approx(b * f_centre).epsilon(1e-9).scale(0.0));
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0, 0, 0}, {0, 0, 1}).x ==
+          doctest::Approx(b * f_centre).epsilon(1e-9).scale(0.0));
     // Below a corner: F = (1 / 2 pi) [2 (1 / sqrt 2) atan(1 / sqrt 2)] for a unit square at height 1.
     const double f_corner = 1.0 / (2.0 * kPi) * 2.0 / std::sqrt(2.0) * std::atan(1.0 / std::sqrt(2.0));
-    CHECK(probeIrradiance(*solution, {0.5, 0.5, 0}, {0, 0, 1}).x == doctest::Approx(b * f_corner).epsilon(1e-9).scale(0.0));
+    CHECK(
+        probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0.5, 0.5, 0}, {0, 0, 1}).x ==
+        doctest::Approx(b * f_corner).epsilon(1e-9).scale(0.0));
     // Facing away: nothing.
-    CHECK(probeIrradiance(*solution, {0, 0, 0}, {0, 0, -1}).x == 0.0);
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0, 0, 0}, {0, 0, -1}).x ==
+          0.0);
 }
 
 TEST_CASE("perpendicular unit squares sharing an edge: the hierarchy's links sum to F") {
@@ -144,10 +150,14 @@ TEST_CASE("an occluder fully between two squares: zero transfer in every visibil
         REQUIRE(solution);
         for (const Element& e : solution->elements)
             if (e.mesh == 0) CHECK(e.radiosity.x == 0.0);
-        CHECK(probeIrradiance(*solution, {0.5, 0.5, 0.0}, {0, 0, 1}).x == 0.0);
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0.5, 0.5, 0.0},
+                              {0, 0, 1})
+                  .x == 0.0);
         if (mode == LinkVisibility::Obb || mode == LinkVisibility::Exact) CHECK(solution->stats.occluded_links > 0);
         // The lamp does light the slab's underside... no: the slab's top faces the lamp.
-        CHECK(probeIrradiance(*solution, {0.5, 0.5, 1.1}, {0, 0, 1}).x > 0.0);
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0.5, 0.5, 1.1},
+                              {0, 0, 1})
+                  .x > 0.0);
     }
 }
 
@@ -160,11 +170,16 @@ TEST_CASE("closed emitting box at high quality: within 0.3 %") {
         const auto solution = solve(scene, options, diagnostics);
         REQUIRE(solution);
         const double expected = kPi / (1.0 - rho);
-        CHECK(probeIrradiance(*solution, {0.5, 0.5, 0.0}, {0, 0, 1}).x == doctest::Approx(expected).epsilon(0.003).scale(0.0));
-        CHECK(probeIrradiance(*solution, {0.0, 0.5, 0.5}, {1, 0, 0}).x == doctest::Approx(expected).epsilon(0.003).scale(0.0));
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0.5, 0.5, 0.0},
+                              {0, 0, 1})
+                  .x == doctest::Approx(expected).epsilon(0.003).scale(0.0));
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0.0, 0.5, 0.5},
+                              {1, 0, 0})
+                  .x == doctest::Approx(expected).epsilon(0.003).scale(0.0));
         // Near and at a corner the leaf corrections' centroid rule leaves ~0.35 % (measured).
         for (const DVec3 p : {DVec3(0.02, 0.03, 0.0), DVec3(0.0, 0.0, 0.0)})
-            CHECK(probeIrradiance(*solution, p, {0, 0, 1}).x == doctest::Approx(expected).epsilon(0.005).scale(0.0));
+            CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), p, {0, 0, 1}).x ==
+                  doctest::Approx(expected).epsilon(0.005).scale(0.0));
     }
 }
 
@@ -181,8 +196,10 @@ TEST_CASE("a point light above a grey floor: direct irradiance, then bounced") {
     const auto solution = solve(scene, SolverOptions::forQuality(Quality::Medium), diagnostics);
     REQUIRE(solution);
     // H = I cos(theta) / d^2: 2 at the centre, 2 (1/sqrt 2) / 2 at (1, 0).
-    CHECK(probeIrradiance(*solution, {0, 0, 0}, {0, 0, 1}).x == doctest::Approx(2.0).epsilon(1e-9).scale(0.0));
-    CHECK(probeIrradiance(*solution, {1, 0, 0}, {0, 0, 1}).x == doctest::Approx(1.0 / std::sqrt(2.0)).epsilon(1e-9).scale(0.0));
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {0, 0, 0}, {0, 0, 1}).x ==
+          doctest::Approx(2.0).epsilon(1e-9).scale(0.0));
+    CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {1, 0, 0}, {0, 0, 1}).x ==
+          doctest::Approx(1.0 / std::sqrt(2.0)).epsilon(1e-9).scale(0.0));
     // The floor reflects it: area-weighted mean of B = rho * mean H over the floor, with
     // mean H = I * (projected solid angle of the floor seen from the light) / A.
     double power = 0.0;

@@ -7,7 +7,8 @@
 #include <vector>
 
 #include "radiosity/form_factor.h"
-#include "test_scenes.h"
+#include "../radiosity/test_scenes.h"
+#include "readout/evaluate_probe.h"
 
 using namespace radbake;
 using namespace radbake::test;
@@ -51,14 +52,16 @@ TEST_CASE("probe under a half-hidden emitting square: the visible rectangle's cl
         // Under the plate's edge: 30 % of the square visible (a 2 x 2 grid gives 25 or 50 %).
         const DVec3 lit(0.0, 0.0, 0.0);
         const double expected = visibleRectangleIrradiance(lit);
-        const double h = probeIrradiance(*solution, lit, {0, 0, 1}).x;
+        const double h =
+            probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), lit, {0, 0, 1}).x;
         CAPTURE(threads);
         CHECK(expected < 0.5 * unoccludedIrradiance(lit));
         CHECK(h == doctest::Approx(expected).epsilon(0.01));
         // Deep penumbra: only the strip x in [0.45, 0.5] is visible.
         const DVec3 penumbra(-0.25, 0.1, 0.0);
         const double expected_penumbra = visibleRectangleIrradiance(penumbra);
-        const double h_penumbra = probeIrradiance(*solution, penumbra, {0, 0, 1}).x;
+        const double h_penumbra =
+            probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), penumbra, {0, 0, 1}).x;
         MESSAGE("threads " << threads << ": H " << h << " (exact " << expected << "), penumbra " << h_penumbra
                            << " (exact " << expected_penumbra << ")");
         per_thread_count.push_back(h);
@@ -68,8 +71,11 @@ TEST_CASE("probe under a half-hidden emitting square: the visible rectangle's cl
         CHECK(h_penumbra == doctest::Approx(expected_penumbra).epsilon(0.1));  // a strip 1/20 wide: edge pieces weigh more
         // Fully lit and fully hidden probes stay exact.
         const DVec3 open(0.8, 0.0, 0.0);
-        CHECK(probeIrradiance(*solution, open, {0, 0, 1}).x == doctest::Approx(unoccludedIrradiance(open)).epsilon(1e-9));
-        CHECK(probeIrradiance(*solution, {-0.8, 0.0, 0.0}, {0, 0, 1}).x == 0.0);
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), open, {0, 0, 1}).x ==
+              doctest::Approx(unoccludedIrradiance(open)).epsilon(1e-9));
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {-0.8, 0.0, 0.0},
+                              {0, 0, 1})
+                  .x == 0.0);
     }
     REQUIRE(per_thread_count.size() == 4);
     CHECK(per_thread_count[0] == per_thread_count[2]);
@@ -106,7 +112,7 @@ TEST_CASE("probe in a luminaire's penumbra: the visible part's closed form withi
     const double expected = kPi * pointPolygonFormFactor(origin, up, visible, {0, 0, -1});
     const double unoccluded = kPi * pointPolygonFormFactor(origin, up, whole, {0, 0, -1});
     CHECK(expected < 0.95 * unoccluded);
-    const double h = probeIrradiance(*solution, origin, up).x;
+    const double h = probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), origin, up).x;
     CAPTURE(h);
     CAPTURE(expected);
     CHECK(std::abs(h / expected - 1.0) < 0.01);  // relative (doctest's Approx adds 1 to the scale)

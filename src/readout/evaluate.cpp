@@ -7,9 +7,9 @@
 
 #include "geometry/polygon.h"
 #include "radiosity/elements.h"
-#include "radiosity/evaluate_probe.h"
+#include "readout/evaluate_probe.h"
 #include "radiosity/form_factor.h"
-#include "radiosity/gather.h"
+#include "readout/gather.h"
 #include "radiosity/punctual_lights.h"
 #include "radiosity/refine.h"
 #include "radiosity/solution.h"
@@ -72,12 +72,13 @@ double piecePointFormFactor(const DVec3& point, const DVec3& normal, std::span<c
 
 namespace {
 
-DVec3 evaluate(const Solution& solution, const DVec3& point_on_surface, const DVec3& normal,
-               ProbeCounters* counters, uint32_t receiver_mesh) {
+DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DVec3& point_on_surface,
+               const DVec3& normal, ProbeCounters* counters, uint32_t receiver_mesh) {
     if (solution.elements.empty()) return DVec3(0.0);
     const double lift = gather::kLift * solution.scene_extent;
     const DVec3 point = gather::liftOffSurfaces(solution, point_on_surface, normal, lift);
     gather::Gatherer g{.s = solution,
+               .o = options,
                .point = point,
                .normal = normal,
                .origin = point + lift * normal,
@@ -94,13 +95,14 @@ DVec3 evaluate(const Solution& solution, const DVec3& point_on_surface, const DV
 
 }  // namespace
 
-DVec3 probeIrradiance(const Solution& solution, const DVec3& point, const DVec3& normal, uint32_t receiver_mesh) {
-    return evaluate(solution, point, normal, nullptr, receiver_mesh);
+DVec3 probeIrradiance(const Solution& solution, const ReadoutOptions& options, const DVec3& point, const DVec3& normal,
+                      uint32_t receiver_mesh) {
+    return evaluate(solution, options, point, normal, nullptr, receiver_mesh);
 }
 
-DVec3 probeIrradianceCounted(const Solution& solution, const DVec3& point, const DVec3& normal,
-                             ProbeCounters& counters, uint32_t receiver_mesh) {
-    return evaluate(solution, point, normal, &counters, receiver_mesh);
+DVec3 probeIrradianceCounted(const Solution& solution, const ReadoutOptions& options, const DVec3& point,
+                             const DVec3& normal, ProbeCounters& counters, uint32_t receiver_mesh) {
+    return evaluate(solution, options, point, normal, &counters, receiver_mesh);
 }
 
 }  // namespace radbake

@@ -1,5 +1,5 @@
 // The link reconstruction (reconstruct.h): what it gathers, and why, is described there.
-#include "radiosity/reconstruct.h"
+#include "readout/reconstruct.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "radiosity/cluster.h"
 #include "radiosity/cluster_nodes.h"
 #include "radiosity/elements.h"
-#include "radiosity/gather.h"
+#include "readout/gather.h"
 #include "radiosity/punctual_lights.h"
 
 namespace radbake {
@@ -99,7 +99,8 @@ uint32_t nearest(const Solution& s, const Range& candidates, const DVec3& p) {
 
 }  // namespace
 
-LinkReconstruction::LinkReconstruction(const Solution& solution, ParallelRunner& runner) : s_(solution) {
+LinkReconstruction::LinkReconstruction(const Solution& solution, const ReadoutOptions& options, ParallelRunner& runner)
+    : s_(solution), o_(options) {
     const Solution& s = s_;
     link_begin_.assign(s.elements.size() + 1, 0);
     for (const Link& link : s.links) ++link_begin_[link.receiver + 1];
@@ -270,8 +271,8 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     const Solution& s = s_;
     const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
     if (leaf == kNoElement)
-        return counters ? probeIrradianceCounted(s, p_world, normal, *counters, mesh)
-                        : probeIrradiance(s, p_world, normal, mesh);
+        return counters ? probeIrradianceCounted(s, o_, p_world, normal, *counters, mesh)
+                        : probeIrradiance(s, o_, p_world, normal, mesh);
     DVec3 h = evaluateLeaf(leaf, p_world, normal, counters, edges);
     if (s.scene && !s.scene->lights.empty())
         h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
@@ -296,9 +297,9 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTermsAt(uint32_t mesh, uin
                                                               const DVec3& normal, const DVec3& h,
                                                               std::span<const SideLight> beside,
                                                               const DVec3& interior) const {
-    if (s_.options.edge_correction == EdgeCorrection::Off) return {};
+    if (o_.edge_correction == EdgeCorrection::Off) return {};
     // Shared: only faces beside that `beside` gives, so none unless it holds another plane.
-    if (s_.options.edge_correction == EdgeCorrection::Shared &&
+    if (o_.edge_correction == EdgeCorrection::Shared &&
         std::none_of(beside.begin(), beside.end(), [&](const SideLight& l) {
             return glm::length(glm::cross(l.normal, normal)) > 1e-6;
         }))
@@ -309,7 +310,7 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTermsAt(uint32_t mesh, uin
     if (touched.count < 2) return {};
     return edgeTerms(leaf, p_world, p_world + gather::kLift * s_.scene_extent * touched.direction, normal, h,
                      std::span<const uint32_t>(touched.roots.data(), touched.count), beside,
-                     s_.options.edge_correction == EdgeCorrection::Shared, interior, nullptr);
+                     o_.edge_correction == EdgeCorrection::Shared, interior, nullptr);
 }
 
 LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, const DVec3& p_world) const {
@@ -545,6 +546,7 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     const Touched touched = touchedRoots(leaf, p_world);
     const DVec3 point = p_world + lift * touched.direction;
     gather::Gatherer g{.s = s,
+                       .o = o_,
                        .point = point,
                        .normal = normal,
                        .origin = point + lift * normal,
@@ -673,12 +675,12 @@ bool correctsEdges(EdgeCorrection mode, LinkReconstruction::Reading reading) {
 
 DVec3 LinkReconstruction::irradiance(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                                      Reading reading) const {
-    return evaluate(mesh, triangle, p_world, normal, nullptr, correctsEdges(s_.options.edge_correction, reading));
+    return evaluate(mesh, triangle, p_world, normal, nullptr, correctsEdges(o_.edge_correction, reading));
 }
 
 DVec3 LinkReconstruction::irradianceCounted(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
                                             const DVec3& normal, ProbeCounters& counters, Reading reading) const {
-    return evaluate(mesh, triangle, p_world, normal, &counters, correctsEdges(s_.options.edge_correction, reading));
+    return evaluate(mesh, triangle, p_world, normal, &counters, correctsEdges(o_.edge_correction, reading));
 }
 
 }  // namespace radbake

@@ -1,5 +1,5 @@
 #pragma once
-// The point gather over the element hierarchy (internal to radiosity/): probeIrradiance's
+// The point gather over the element hierarchy (internal to readout/): probeIrradiance's
 // exhaustive gather walks it from every root, the link reconstruction (reconstruct.cpp) from
 // the sources of the links that reach the point's element.
 #include <algorithm>
@@ -9,7 +9,7 @@
 
 #include "geometry/polygon.h"
 #include "radiosity/elements.h"
-#include "radiosity/evaluate_probe.h"
+#include "readout/evaluate_probe.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/refine.h"
 #include "radiosity/solution.h"
@@ -65,7 +65,7 @@ inline bool emitsMostOfItsLight(const Element& e) {
     return maxChannel(e.emission) >= 0.5 * maxChannel(e.radiosity);
 }
 
-// SolverOptions::probe_grazing_corner_rays: a piece gets a corner ray when that corner is
+// ReadoutOptions::probe_grazing_corner_rays: a piece gets a corner ray when that corner is
 // within this sine of the point's horizon and its kernel is above this ratio of the samples'
 // largest. The ceiling above the tessellated Cornell box's lamp (its walls' tops seen through
 // the 1 cm gap, 6-17 degrees up) needs 1.1 and 0.3: its 8 vertices +14 % -> -4 %, for 6 % more
@@ -75,6 +75,7 @@ inline constexpr double kGrazingElevation = 0.3;
 
 struct Gatherer {
     const Solution& s;
+    const ReadoutOptions& o;
     DVec3 point{0.0}, normal{0.0}, origin{0.0};
     double lift = 0.0;
     std::vector<DVec3> points{};
@@ -119,7 +120,7 @@ struct Gatherer {
     std::vector<double> weights{};
     bool castVisibility(std::span<const DVec3> loop, const DVec3& loop_normal, int& open, int& total,
                         double& visible, int samples_per_side = 0) {
-        const int n = samples_per_side > 0 ? samples_per_side : std::max(2, s.options.probe_samples);
+        const int n = samples_per_side > 0 ? samples_per_side : std::max(2, o.probe_samples);
         bool below = false;
         for (const DVec3& v : loop) below = below || !(glm::dot(normal, v - point) > 0.0);
         if (below) {
@@ -143,14 +144,14 @@ struct Gatherer {
             weight_sum += weights[k];
             weight_max = std::max(weight_max, weights[k]);
         }
-        // SolverOptions::probe_corner_rays: the corner where the kernel is highest (1/16 of the
+        // ReadoutOptions::probe_corner_rays: the corner where the kernel is highest (1/16 of the
         // way in), if above every sample's, gets a ray that only tells whether the piece is
         // partly hidden (then split): the lamp hides the bottom eighth of each wall tile the
         // ceiling above the tessellated Cornell box's lamp sees through the 1 cm gap, below
         // every 2 x 2 ray and where the ceiling's cosine weights most. probe_grazing_corner_rays:
         // only on a piece near the point's horizon whose kernel is steep there (kGrazing*).
         bool cornered = false;
-        if ((s.options.probe_corner_rays || s.options.probe_grazing_corner_rays) && !below && weight_max > 0.0) {
+        if ((o.probe_corner_rays || o.probe_grazing_corner_rays) && !below && weight_max > 0.0) {
             const DVec3 centroid = polygonCentroid(loop);
             double corner_max = 0.0;
             DVec3 corner_point(0.0);
@@ -161,7 +162,7 @@ struct Gatherer {
             }
             const DVec3 to_corner = corner_point - point;
             const bool wanted =
-                s.options.probe_corner_rays
+                o.probe_corner_rays
                     ? corner_max > weight_max
                     : corner_max > kGrazingKernelRatio * weight_max &&
                           glm::dot(normal, to_corner) < kGrazingElevation * glm::length(to_corner);
@@ -185,7 +186,7 @@ struct Gatherer {
     // below probe_visibility_ratio x its distance: a fixed 2x2 grid would give steps of 1/4
     // of its light, and a penumbra narrower than the grid would be lost altogether.
     bool fineEnough(const DVec3& centroid, double radius, bool coarse) const {
-        return radius <= (coarse ? s.options.probe_visibility_ratio : link_visibility_ratio) *
+        return radius <= (coarse ? o.probe_visibility_ratio : link_visibility_ratio) *
                              glm::length(centroid - point);
     }
     // Unanimous rays are trusted only on pieces below probe_visibility_coarse x distance: a
@@ -194,7 +195,7 @@ struct Gatherer {
         return radius <= coarseRatio(emitter) * glm::length(centroid - point);
     }
     double coarseRatio(bool emitter) const {
-        return s.options.probe_visibility_coarse * (emitter ? kEmitterCoarseFactor : 1.0);
+        return o.probe_visibility_coarse * (emitter ? kEmitterCoarseFactor : 1.0);
     }
 
     // Light from the polygon `loop` of radiosity b, split for visibility only (a leaf's
@@ -243,8 +244,8 @@ struct Gatherer {
         // its visible share from twice the rays a side (2 x 2 rays read the bottom half of a
         // tile split by its corner ray as half hidden where a quarter is: the ceiling above the
         // lamp went from +14 % to -9 %, to +2 % with this).
-        if (partial && (s.options.probe_corner_rays || cornered))
-            castVisibility(loop, loop_normal, open, total, visible, 2 * std::max(2, s.options.probe_samples));
+        if (partial && (o.probe_corner_rays || cornered))
+            castVisibility(loop, loop_normal, open, total, visible, 2 * std::max(2, o.probe_samples));
         if (counters) ++counters->pieces;
         sum += f * visible * b;
     }
@@ -278,8 +279,8 @@ struct Gatherer {
         const double distance = glm::length(e.centroid - p);
         const bool emitter = emitsMostOfItsLight(e);
         const bool coarse = coarseFor(emitter);
-        const double opening = use_rays && (coarse || coarse_opening) ? std::min(s.options.probe_opening, coarseRatio(emitter))
-                                                  : s.options.probe_opening;
+        const double opening = use_rays && (coarse || coarse_opening) ? std::min(o.probe_opening, coarseRatio(emitter))
+                                                  : o.probe_opening;
         if (!e.isLeaf() && e.radius > opening * distance) {
             for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
             return;

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "core/parallel.h"
-#include "radiosity/evaluate_probe.h"
+#include "readout/evaluate_probe.h"
 #include "radiosity/solution.h"
 
 namespace radbake {
@@ -32,17 +32,11 @@ namespace gather {
 struct Gatherer;
 }
 
-// How the bake reads the solution at its vertices, texels and probes.
-enum class GatherMode {
-    Links,       // LinkReconstruction
-    Exhaustive,  // probeIrradiance at every point (the reference)
-};
-
 class LinkReconstruction {
 public:
     // Tables over the solution (link ranges, which roots a source polygon became, the
     // cluster light per root): the solution must outlive it and stay unchanged.
-    LinkReconstruction(const Solution& solution, ParallelRunner& runner);
+    LinkReconstruction(const Solution& solution, const ReadoutOptions& options, ParallelRunner& runner);
 
     // What a point is, for the edge correction: EdgeCorrection::Shared corrects lightmap texels
     // (an output, few of them on an edge) but not probes.
@@ -151,6 +145,7 @@ private:
                      DVec3& separable) const;
 
     const Solution& s_;
+    ReadoutOptions o_;
     std::vector<size_t> link_begin_;  // per element + 1: its links in Solution::links
     struct RootKey {
         uint32_t mesh, polygon, root;

@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "radiosity/evaluate_probe.h"
+#include "readout/evaluate_probe.h"
 #include "radiosity/form_factor.h"
-#include "test_scenes.h"
+#include "../radiosity/test_scenes.h"
 #include "visibility/ray_caster.h"
 
 using namespace radbake;
@@ -141,18 +141,19 @@ TEST_CASE("probe counters: an emitting square over a probe is split three times,
     const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
     addQuad(scene, lamp, {-0.5f, -0.5f, 1.0f}, {-0.5f, 0.5f, 1.0f}, {0.5f, 0.5f, 1.0f}, {0.5f, -0.5f, 1.0f});
     SolverOptions options = SolverOptions::forQuality(Quality::Medium);
-    REQUIRE(options.probe_samples == 2);
-    REQUIRE(options.probe_visibility_coarse == 0.1);
+    const ReadoutOptions readout = ReadoutOptions::forQuality(Quality::Medium);
+    REQUIRE(readout.probe_samples == 2);
+    REQUIRE(readout.probe_visibility_coarse == 0.1);
     Diagnostics diagnostics;
     const auto solution = solve(scene, options, diagnostics);
     REQUIRE(solution);
     REQUIRE(solution->elements.size() == 1);
     ProbeCounters counters;
-    const DVec3 h = probeIrradianceCounted(*solution, {0, 0, 0}, {0, 0, 1}, counters);
+    const DVec3 h = probeIrradianceCounted(*solution, readout, {0, 0, 0}, {0, 0, 1}, counters);
     CHECK(counters.form_factors == 85);
     CHECK(counters.rays == 85 * 4);
     CHECK(counters.pieces == 64);
-    CHECK(sameBits(h, probeIrradiance(*solution, {0, 0, 0}, {0, 0, 1})));
+    CHECK(sameBits(h, probeIrradiance(*solution, readout, {0, 0, 0}, {0, 0, 1})));
     const std::vector<DVec3> square = {{-0.5, -0.5, 1.0}, {-0.5, 0.5, 1.0}, {0.5, 0.5, 1.0}, {0.5, -0.5, 1.0}};
     CHECK(h.x == doctest::Approx(kPi * pointPolygonFormFactor({0, 0, 0}, {0, 0, 1}, square, {0, 0, -1})).epsilon(1e-12));
 }

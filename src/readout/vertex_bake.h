@@ -5,7 +5,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "core/progress.h"
-#include "radiosity/reconstruct.h"
+#include "readout/reconstruct.h"
 
 namespace radbake {
 
@@ -21,9 +21,9 @@ struct VertexBake {
 // On the runner's threads; each vertex writes its own slot, so the values do not depend on
 // the thread count. A cancelled runner leaves vertices unevaluated (discard the bake).
 // `progress`, when given, moves with the vertices done. Vertices of any meshes at one
-// position (bit for bit) share their light per face normal. `mode`: the link
+// position (bit for bit) share their light per face normal. `options.gather`: the link
 // reconstruction, or the exhaustive gather (the reference, for --texel-tolerance 0).
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner,
-                        Progress* progress = nullptr, GatherMode mode = GatherMode::Links);
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, const ReadoutOptions& options,
+                        ParallelRunner& runner, Progress* progress = nullptr);
 
 }  // namespace radbake

@@ -1,6 +1,6 @@
 // Per-vertex bake: the solution read at each original vertex, so values are smooth and
 // independent of the element quadtree.
-#include "bake/vertex_bake.h"
+#include "readout/vertex_bake.h"
 
 #include <algorithm>
 #include <array>
@@ -9,7 +9,7 @@
 #include <map>
 #include <optional>
 
-#include "radiosity/reconstruct.h"
+#include "readout/reconstruct.h"
 #include "radiosity/solution.h"
 #include "scene/scene.h"
 
@@ -135,8 +135,8 @@ void correctEdges(const Scene& scene, const LinkReconstruction& links, WeldedPoi
 
 }  // namespace
 
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRunner& runner, Progress* progress,
-                        GatherMode mode) {
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, const ReadoutOptions& options,
+                        ParallelRunner& runner, Progress* progress) {
     VertexBake bake;
     bake.values.resize(scene.meshes.size());
     // Incident faces of every vertex, and the welded point each vertex is at.
@@ -170,7 +170,7 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRu
         }
     }
     std::optional<LinkReconstruction> links;
-    if (mode == GatherMode::Links) links.emplace(solution, runner);
+    if (options.gather == GatherMode::Links) links.emplace(solution, options, runner);
     std::atomic<size_t> done{0};
     // Each welded point writes its own slot: the result does not depend on the thread count.
     runner.forRanges(points.size(), 16, [&](size_t begin, size_t end) {
@@ -179,8 +179,8 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, ParallelRu
             point.groups = groupByNormal(point.faces);
             for (const Incident& g : point.groups)
                 point.h.push_back(links ? irradianceAt(solution, *links, point, g)
-                                        : probeIrradiance(solution, point.p, g.normal, g.mesh));
-            if (links && solution.options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
+                                        : probeIrradiance(solution, options, point.p, g.normal, g.mesh));
+            if (links && options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
         }
         if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
     });

@@ -1,11 +1,13 @@
 #pragma once
-// probeIrradiance (radiosity/solution.h) with counters of the work it does, for benchmarks
+// The exhaustive gather: the light at any point read from every root of a solved hierarchy
+// (the read-out's reference), with counters of the work it does for benchmarks
 // (tools/bench_probes) and tests that check how much an evaluation casts.
 #include <array>
 #include <cstddef>
 #include <span>
 
 #include "radiosity/solution.h"
+#include "readout/readout_options.h"
 
 namespace radbake {
 
@@ -15,9 +17,18 @@ struct ProbeCounters {
     size_t pieces = 0;        // elements and sub-leaf pieces that contributed light
 };
 
+// Irradiance H (W/m^2, DESIGN.md section 2) arriving at `point` on a surface facing `normal`
+// (unit), gathered from the solved hierarchy (point-to-polygon form factors, visibility by
+// rays) plus the direct light of punctual lights. Per channel. A point on a surface of
+// Scene::meshes[receiver_mesh] takes only the punctual lights whose scope holds that mesh
+// (Light::lights: a VRML DirectionalLight lights its siblings only); a probe
+// (receiver_mesh = 0xffffffff, punctual_lights.h's kAnyMesh) takes them all.
+DVec3 probeIrradiance(const Solution& solution, const ReadoutOptions& options, const DVec3& point, const DVec3& normal,
+                      uint32_t receiver_mesh = 0xffffffffu);
+
 // The same answer as probeIrradiance, bit for bit; `counters` is incremented.
-DVec3 probeIrradianceCounted(const Solution& solution, const DVec3& point, const DVec3& normal,
-                             ProbeCounters& counters, uint32_t receiver_mesh = 0xffffffffu);
+DVec3 probeIrradianceCounted(const Solution& solution, const ReadoutOptions& options, const DVec3& point,
+                             const DVec3& normal, ProbeCounters& counters, uint32_t receiver_mesh = 0xffffffffu);
 
 // Pieces of probeIrradiance, exposed for tests.
 

@@ -1,4 +1,4 @@
-// The link reconstruction (radiosity/reconstruct.h) against the exhaustive gather it replaces
+// The link reconstruction (readout/reconstruct.h) against the exhaustive gather it replaces
 // in bakes: the same light within the texel tolerance, for a fraction of the rays, the same
 // answer on any thread count.
 #include <doctest/doctest.h>
@@ -9,9 +9,9 @@
 
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
-#include "radiosity/reconstruct.h"
+#include "readout/reconstruct.h"
 #include "radiosity/refine.h"
-#include "test_scenes.h"
+#include "../radiosity/test_scenes.h"
 
 using namespace radbake;
 using namespace radbake::test;
@@ -96,8 +96,10 @@ Comparison compare(const Scene& scene, const Solution& solution, const LinkRecon
             for (const DVec3& w : weights) {
                 const DVec3 p = w.x * a + w.y * b + w.z * c;
                 ProbeCounters fast_counters, reference_counters;
-                samples.push_back({links.irradianceCounted(m, t, p, normal, fast_counters),
-                                   probeIrradianceCounted(solution, p, normal, reference_counters)});
+                samples.push_back(
+                    {links.irradianceCounted(m, t, p, normal, fast_counters),
+                     probeIrradianceCounted(solution, ReadoutOptions::forQuality(solution.options.quality), p, normal,
+                                            reference_counters)});
                 out.rays_links += fast_counters.rays;
                 out.rays_exhaustive += reference_counters.rays;
             }
@@ -124,7 +126,7 @@ TEST_CASE("the link reconstruction gives the exhaustive gather's light within th
     Diagnostics diagnostics;
     const auto solution = solve(scene, SolverOptions::forQuality(Quality::Medium), diagnostics);
     REQUIRE(solution);
-    const LinkReconstruction links(*solution, testRunner());
+    const LinkReconstruction links(*solution, ReadoutOptions::forQuality(solution->options.quality), testRunner());
     const Comparison c = compare(scene, *solution, links);
     MESSAGE("lit room: ", c.points, " points, RMS ", c.rms, ", worst ", c.worst, ", rays ", c.rays_links, " vs ",
             c.rays_exhaustive);
@@ -146,7 +148,7 @@ TEST_CASE("the link reconstruction reads the light of cluster links") {
     const auto solution = solve(scene, SolverOptions::forQuality(Quality::Medium), diagnostics);
     REQUIRE(solution);
     REQUIRE(!solution->cluster_links.empty());
-    const LinkReconstruction links(*solution, testRunner());
+    const LinkReconstruction links(*solution, ReadoutOptions::forQuality(solution->options.quality), testRunner());
     const Comparison c = compare(scene, *solution, links);
     MESSAGE("tiled room: ", c.points, " points, RMS ", c.rms, ", worst ", c.worst, ", rays ", c.rays_links, " vs ",
             c.rays_exhaustive);
@@ -165,7 +167,7 @@ TEST_CASE("a cluster pair whose one ray was blocked still lights the points that
     const auto solution = solve(scene, SolverOptions::forQuality(Quality::Medium), diagnostics);
     REQUIRE(solution);
     REQUIRE(!solution->cluster_links.empty());
-    const LinkReconstruction links(*solution, testRunner());
+    const LinkReconstruction links(*solution, ReadoutOptions::forQuality(solution->options.quality), testRunner());
     // The ceiling's tiles: the second n x n meshes.
     const auto ceiling = [&](uint32_t m) { return m >= 12 * 12 && m < 2 * 12 * 12; };
     const Comparison c = compare(scene, *solution, links, ceiling);
@@ -182,7 +184,8 @@ TEST_CASE("the link reconstruction does not depend on the thread count it was bu
     const auto solution = solve(scene, SolverOptions::forQuality(Quality::Draft), diagnostics);
     REQUIRE(solution);
     ParallelRunner one(Threading{.threads = 1}), two(Threading{.threads = 2});
-    const LinkReconstruction a(*solution, one), b(*solution, two);
+    const ReadoutOptions readout = ReadoutOptions::forQuality(solution->options.quality);
+    const LinkReconstruction a(*solution, readout, one), b(*solution, readout, two);
     for (uint32_t m = 0; m < scene.meshes.size(); ++m)
         for (uint32_t t = 0; t < scene.meshes[m].triangles.size(); ++t) {
             const Mesh& mesh = scene.meshes[m];
@@ -200,7 +203,7 @@ TEST_CASE("a point is found in the leaf element that holds it") {
     Diagnostics diagnostics;
     const auto solution = solve(scene, SolverOptions::forQuality(Quality::Medium), diagnostics);
     REQUIRE(solution);
-    const LinkReconstruction links(*solution, testRunner());
+    const LinkReconstruction links(*solution, ReadoutOptions::forQuality(solution->options.quality), testRunner());
     // The floor (mesh 0): points across it each land in a leaf of the floor's root that contains them.
     for (int i = 0; i < 10; ++i)
         for (int j = 0; j < 10; ++j) {

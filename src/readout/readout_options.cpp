@@ -1,0 +1,48 @@
+// The read-out presets of each Quality.
+#include "readout/readout_options.h"
+
+namespace radbake {
+
+ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
+    ReadoutOptions o;
+    switch (quality) {
+        case Quality::Draft:
+            o.probe_opening = 0.7;
+            o.probe_samples = 2;
+            o.probe_visibility_ratio = 0.03;
+            o.probe_visibility_coarse = 0.2;
+            o.edge_correction = EdgeCorrection::Off;
+            o.probe_grazing_corner_rays = false;
+            break;
+        case Quality::Medium:
+            break;  // the struct's defaults
+        case Quality::High:
+            o.probe_opening = 0.35;
+            o.probe_samples = 3;
+            o.probe_visibility_ratio = 0.005;
+            o.probe_visibility_coarse = 0.07;
+            o.probe_corner_rays = true;
+            o.edge_correction = EdgeCorrection::On;
+            break;
+        case Quality::Reference:
+            o.probe_opening = 0.2;
+            o.probe_samples = 4;
+            o.probe_visibility_ratio = 0.002;
+            o.probe_visibility_coarse = 0.05;
+            o.probe_corner_rays = true;
+            o.edge_correction = EdgeCorrection::On;
+            break;
+    }
+    return o;
+}
+
+const char* toString(EdgeCorrection mode) {
+    switch (mode) {
+        case EdgeCorrection::Off: return "off";
+        case EdgeCorrection::Shared: return "shared";
+        case EdgeCorrection::On: return "on";
+    }
+    return "?";
+}
+
+}  // namespace radbake
