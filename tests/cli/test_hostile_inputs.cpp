@@ -2,8 +2,13 @@
 // regular files (FIFOs, sockets, directories, all made in a temporary folder). Every run has
 // a time limit, so a hang fails its test instead of stopping the suite.
 #include <doctest/doctest.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 #include "cli_support.h"
@@ -13,6 +18,48 @@ using namespace clitest;
 namespace {
 
 constexpr int kSeconds = 120;  // a tiny scene bakes in a second; only a hang takes this long
+
+void makeFifo(const fs::path& path) { REQUIRE_MESSAGE(::mkfifo(path.c_str(), 0600) == 0, std::strerror(errno)); }
+
+// A UNIX socket bound at `path`; the file stays after the socket is closed.
+void makeSocket(const fs::path& path) {
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    REQUIRE(path.string().size() < sizeof address.sun_path);
+    std::strcpy(address.sun_path, path.c_str());
+    const int bound = ::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address);
+    ::close(fd);
+    REQUIRE_MESSAGE(bound == 0, std::strerror(errno));
+}
+
+// A lamp over a floor whose material takes its colour from `texture` (map_Kd).
+void writeTexturedObj(const fs::path& dir, const std::string& texture) {
+    writeText(dir / "room.mtl", "newmtl light\nKd 0 0 0\nKe 2 2 2\nnewmtl floor\nKd 0.8 0.8 0.8\nmap_Kd " + texture + "\n");
+    writeText(dir / "room.obj",
+              "mtllib room.mtl\n"
+              "v -0.5 1 -0.5\nv 0.5 1 -0.5\nv 0.5 1 0.5\nv -0.5 1 0.5\n"
+              "v -2 0 -2\nv -2 0 2\nv 2 0 2\nv 2 0 -2\n"
+              "vt 0 0\nvt 0 1\nvt 1 1\nvt 1 0\n"
+              "o lamp\nusemtl light\nf 1 2 3 4\n"
+              "o floor\nusemtl floor\nf 5/1 6/2 7/3 8/4\n");
+}
+
+// The same in VRML97, the floor's ImageTexture naming `texture`.
+void writeTexturedWrl(const fs::path& dir, const std::string& texture) {
+    writeText(dir / "room.wrl",
+              "#VRML V2.0 utf8\n"
+              "Shape { appearance Appearance { material Material { diffuseColor 0 0 0 emissiveColor 2 2 2 } }\n"
+              "  geometry IndexedFaceSet { coord Coordinate { point [-0.5 1 -0.5, 0.5 1 -0.5, 0.5 1 0.5, -0.5 1 0.5] }\n"
+              "    coordIndex [0 1 2 3 -1] } }\n"
+              "Shape { appearance Appearance { material Material { diffuseColor 0.8 0.8 0.8 }\n"
+              "    texture ImageTexture { url \"" +
+                  texture +
+                  "\" } }\n"
+                  "  geometry IndexedFaceSet { coord Coordinate { point [-2 0 -2, -2 0 2, 2 0 2, 2 0 -2] }\n"
+                  "    coordIndex [0 1 2 3 -1] } }\n");
+}
 
 // A binary little-endian PLY triangle whose end_header is followed by `after`.
 std::string binaryPly(const std::string& after) {
@@ -63,4 +110,69 @@ TEST_CASE("PLY: end_header followed by a vertical tab is a located error, never 
         CHECK(run.exit_code == 0);
         CHECK(run.output.find("triangles  1") != std::string::npos);
     }
+}
+
+TEST_CASE("a texture that is a FIFO, a socket or a directory is a located warning, and the bake goes on") {
+    TempDir tmp;
+    makeFifo(tmp.path / "fifo.png");
+    makeSocket(tmp.path / "socket.png");
+    fs::create_directory(tmp.path / "folder.png");
+    const std::pair<const char*, const char*> kinds[] = {
+        {"fifo.png", "a FIFO"}, {"socket.png", "a socket"}, {"folder.png", "a directory"}};
+    for (const auto& [name, kind] : kinds) {
+        for (const char* scene : {"room.obj", "room.wrl"}) {
+            writeTexturedObj(tmp.path, name);
+            writeTexturedWrl(tmp.path, name);
+            const fs::path texture = tmp.path / name;
+            const std::string expected =
+                "warning: cannot read texture '" + texture.string() + "' (not a regular file (" + kind + "))";
+            CAPTURE(scene);
+            const RunResult info = runRadbake("info " + quote(tmp.path / scene), kSeconds);
+            INFO(info.output);
+            CHECK(info.exit_code == 0);
+            CHECK(info.output.find(expected) != std::string::npos);
+
+            const fs::path out = tmp.path / "out", dep = tmp.path / "room.d";
+            const RunResult bake = runRadbake("bake " + quote(tmp.path / scene) + " -o " + quote(out) + " --depfile " +
+                                                  quote(dep) + " --quality draft --no-lightmaps",
+                                              kSeconds);
+            INFO(bake.output);
+            CHECK(bake.exit_code == 0);
+            CHECK(bake.output.find(expected) != std::string::npos);
+            CHECK(fs::is_regular_file(out / "room.glb"));
+            // Named in the depfile like a missing texture: replacing it with an image rebuilds.
+            CHECK(readBytes(dep).find(texture.string()) != std::string::npos);
+            fs::remove_all(out);
+        }
+    }
+    CHECK(fs::is_fifo(tmp.path / "fifo.png"));
+    CHECK(fs::is_socket(tmp.path / "socket.png"));
+}
+
+TEST_CASE("--probes, --lightmap-scales and an Inline naming a FIFO: refused by name, never a hang") {
+    TempDir tmp;
+    writeTexturedObj(tmp.path, "absent.png");
+    const fs::path fifo = tmp.path / "fifo.txt";
+    makeFifo(fifo);
+    const std::string bake = "bake " + quote(tmp.path / "room.obj") + " -o " + quote(tmp.path / "out") +
+                             " --quality draft --no-lightmaps ";
+    for (const std::string option : {"--probes", "--lightmap-scales"}) {
+        const RunResult run = runRadbake(bake + option + " " + quote(fifo), kSeconds);
+        CAPTURE(option);
+        INFO(run.output);
+        CHECK((run.exit_code == 1 || run.exit_code == 2));
+        CHECK(run.output.find(fifo.string()) != std::string::npos);
+        CHECK(run.output.find("not a regular file") != std::string::npos);
+    }
+    CHECK_FALSE(fs::exists(tmp.path / "out"));
+
+    writeText(tmp.path / "top.wrl", "#VRML V2.0 utf8\nInline { url \"fifo.txt\" }\n"
+                                    "Shape { appearance Appearance { material Material { emissiveColor 1 1 1 } }\n"
+                                    "  geometry IndexedFaceSet { coord Coordinate { point [0 0 0, 1 0 0, 1 0 1] }\n"
+                                    "    coordIndex [0 1 2 -1] } }\n");
+    const RunResult inlined = runRadbake("info " + quote(tmp.path / "top.wrl"), kSeconds);
+    INFO(inlined.output);
+    CHECK(inlined.exit_code == 0);
+    CHECK(inlined.output.find(fifo.string()) != std::string::npos);
+    CHECK(fs::is_fifo(fifo));
 }

@@ -2,6 +2,7 @@
 // includes Assimp: nothing of Assimp (types, exceptions, its global logger) leaks out of here.
 #include "io/assimp/assimp_reader.h"
 
+#include <assimp/DefaultIOStream.h>
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
@@ -24,6 +25,7 @@
 #include <span>
 #include <string_view>
 
+#include "core/regular_file.h"
 #include "scene/triangulate.h"
 
 namespace radbake {
@@ -422,16 +424,26 @@ bool isRegularFile(const char* file) {
     return file != nullptr && std::filesystem::is_regular_file(file, ec);
 }
 
-// Assimp's own file access, noting every file it opens (the scene, its MTL, ...).
+// Assimp's stream over a file opened here (its constructor from a FILE* is protected).
+class RegularFileStream final : public Assimp::DefaultIOStream {
+public:
+    RegularFileStream(std::FILE* file, const std::string& name) : Assimp::DefaultIOStream(file, name) {}
+};
+
+// Assimp's own file access, noting every file it opens (the scene, its MTL, ...). It reads;
+// a file is opened only when it is regular, checked on the open file itself.
 class RecordingIOSystem final : public Assimp::DefaultIOSystem {
 public:
     explicit RecordingIOSystem(std::vector<std::string>* files) : files_(files) {}
     bool Exists(const char* file) const override { return isRegularFile(file); }
     Assimp::IOStream* Open(const char* file, const char* mode) override {
-        if (!isRegularFile(file)) return nullptr;
-        Assimp::IOStream* stream = Assimp::DefaultIOSystem::Open(file, mode);
-        if (stream && files_) files_->emplace_back(file);
-        return stream;
+        if (file == nullptr || mode == nullptr || std::string_view(mode).find_first_of("wa+") != std::string_view::npos)
+            return nullptr;
+        std::string why;
+        InputFile opened = openRegularFile(file, why);
+        if (!opened) return nullptr;
+        if (files_) files_->emplace_back(file);
+        return new RegularFileStream(opened.release(), file);
     }
 
 private:
