@@ -15,6 +15,7 @@
 
 #include "cli/commands.h"
 #include "cli/option_checks.h"
+#include "core/regular_file.h"
 #include "export/output_transaction.h"
 #include "radbake.h"
 
@@ -129,6 +130,11 @@ int runBake(const BakeArgs& args) {
     // An interrupted content build leaves no temporary directory behind.
     cleanUpStagingOnSignals();
 
+    // Refused before the bake, which would otherwise write every other output first.
+    if (const std::string why = args.depfile.empty() ? "" : whyNotReplaceable(args.depfile); !why.empty()) {
+        diagnostics.error({args.depfile, 0, 0}, "cannot write the depfile: " + why);
+        return kExitInputError;
+    }
     BakeOptions options = bakeOptions(args);
     if (!args.probes.empty()) {
         std::optional<std::vector<Probe>> read = readProbes(args.probes, diagnostics);

@@ -176,3 +176,31 @@ TEST_CASE("--probes, --lightmap-scales and an Inline naming a FIFO: refused by n
     CHECK(inlined.output.find(fifo.string()) != std::string::npos);
     CHECK(fs::is_fifo(fifo));
 }
+
+TEST_CASE("--depfile or --solution naming a directory or a FIFO: exit 1 naming it, before any output, and it is kept") {
+    TempDir tmp;
+    writeTexturedObj(tmp.path, "absent.png");
+    const fs::path folder = tmp.path / "folder", fifo = tmp.path / "fifo";
+    fs::create_directory(folder);
+    makeFifo(fifo);
+    const fs::path out = tmp.path / "out";
+    const std::string bake =
+        "bake " + quote(tmp.path / "room.obj") + " -o " + quote(out) + " --quality draft --no-lightmaps ";
+    for (const std::string option : {"--depfile", "--solution"}) {
+        for (const auto& [path, kind] : {std::pair{folder, "a directory"}, std::pair{fifo, "a FIFO"}}) {
+            const RunResult run = runRadbake(bake + option + " " + quote(path), kSeconds);
+            CAPTURE(option);
+            INFO(run.output);
+            CHECK(run.exit_code == 1);
+            CHECK(run.output.find(path.string() + ": error: ") != std::string::npos);
+            CHECK(run.output.find(std::string("not a regular file (") + kind + ")") != std::string::npos);
+            CHECK(run.output.find("Success") == std::string::npos);
+            CHECK_FALSE(fs::exists(out));
+        }
+    }
+    CHECK(fs::is_directory(folder));
+    CHECK(fs::is_empty(folder));
+    CHECK(fs::is_fifo(fifo));
+    CHECK_FALSE(fs::exists(tmp.path / "folder.radbake-tmp"));
+    CHECK_FALSE(fs::exists(tmp.path / "fifo.radbake-tmp"));
+}
