@@ -93,7 +93,7 @@ TEST_CASE("PLY: end_header followed by a vertical tab is a located error, never 
     }
     // Other white space Assimp misreads after end_header: a form feed, a NUL.
     const fs::path crash = tmp.path / "crash.ply";
-    for (const std::string after : {std::string("\v"), std::string("\f"), std::string(1, '\0')}) {
+    for (const std::string& after : {std::string("\v"), std::string("\f"), std::string(1, '\0')}) {
         writeText(crash, binaryPly(after));
         const RunResult run = runRadbake("bake " + quote(crash) + " -o " + quote(tmp.path / "out"), kSeconds);
         CAPTURE(static_cast<int>(after[0]));
