@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
+#include "core/regular_file.h"
 #include "export/output_transaction.h"
 #include "radbake.h"
 
@@ -53,6 +55,14 @@ struct BakeArgs {
     CLI::Option* max_iterations_option = nullptr;
     CLI::Option* texel_tolerance_option = nullptr;
 };
+
+// Upper bounds of the numeric options: far above any real use, well below what breaks
+// (ten million threads crash TBB; an unbounded density or budget overflows the arithmetic).
+constexpr long long kMaxThreads = 1024;
+constexpr long long kMaxIterations = 1000000;
+constexpr double kMaxMemoryMb = 1e9;       // MiB: a pebibyte
+constexpr double kMaxTexelDensity = 1e6;   // texels per scene unit
+constexpr long long kMaxTexels = 1LL << 32;
 
 const std::vector<std::pair<std::string, Quality>> kQualities = {
     {"draft", Quality::Draft}, {"medium", Quality::Medium}, {"high", Quality::High}, {"reference", Quality::Reference}};
@@ -120,6 +130,11 @@ int runBake(const BakeArgs& args) {
     // An interrupted content build leaves no temporary directory behind.
     cleanUpStagingOnSignals();
 
+    // Refused before the bake, which would otherwise write every other output first.
+    if (const std::string why = args.depfile.empty() ? "" : whyNotReplaceable(args.depfile); !why.empty()) {
+        diagnostics.error({args.depfile, 0, 0}, "cannot write the depfile: " + why);
+        return kExitInputError;
+    }
     BakeOptions options = bakeOptions(args);
     if (!args.probes.empty()) {
         std::optional<std::vector<Probe>> read = readProbes(args.probes, diagnostics);
@@ -188,7 +203,9 @@ void addBakeCommand(CLI::App& app, int& result) {
     auto args = std::make_shared<BakeArgs>();
     CLI::App* cmd = app.add_subcommand("bake", "Solve a scene's light and write baked meshes, probes and stats");
     cmd->add_option("scene", args->scene, "Scene file (VRML97, VRML 1.0, or any format Assimp reads)")->required();
-    cmd->add_option("-o,--output", args->out_dir, "Output directory")->default_str("baked/<scene name>/");
+    cmd->add_option("-o,--output", args->out_dir, "Output directory")
+        ->check(nonEmptyPath())
+        ->default_str("baked/<scene name>/");
 
     cmd->add_option("--quality", args->quality_name, "Preset for the knobs below")
         ->check(CLI::IsMember(namesOf(kQualities)))
@@ -199,49 +216,49 @@ void addBakeCommand(CLI::App& app, int& result) {
         ->check(CLI::IsMember(namesOf(kVisibilities)))
         ->capture_default_str();
     cmd->add_option("--threads", args->threads, "Worker threads for every phase; 0: all cores")
-        ->check(CLI::NonNegativeNumber)
+        ->transform(wholeIn(0, kMaxThreads))
         ->capture_default_str();
     cmd->add_flag("--no-pin-threads", args->no_pin_threads,
                   "Leave worker threads unpinned (by default each is bound to a core of its own)");
     cmd->add_option("--probes", args->probes,
-                    "Probe file: one 'x y z nx ny nz' a line (scene units); writes probes.csv with H in W/m^2");
+                    "Probe file: one 'x y z nx ny nz' a line (scene units); writes probes.csv with H in W/m^2")
+        ->check(nonEmptyPath());
     cmd->add_option("--depfile", args->depfile,
                     "Also write a Make-syntax depfile (for Ninja's depfile =, make's include): every output, "
-                    "then every file the bake read (the scene, Inline'd and EXTERNPROTO files, MTL files, probes)");
-    cmd->add_option("--unit-scale", args->import.unit_scale, "Metres per scene unit")->capture_default_str();
-    cmd->add_option("--emission-scale", args->import.emission_scale, "Multiplies every emitted radiance")
-        ->capture_default_str();
+                    "then every file the bake read (the scene, Inline'd and EXTERNPROTO files, MTL files, probes)")
+        ->check(nonEmptyPath());
+    addSceneScaleOptions(*cmd, args->import);
 
     args->error_threshold_option =
         cmd->add_option("--error-threshold", args->error_threshold,
                         "Refine a link while the power it may misplace exceeds this fraction of the emitted power; " +
                             presetValues(&SolverOptions::error_threshold))
-            ->check(CLI::PositiveNumber);
+            ->check(positiveReal(1.0));
     args->local_error_threshold_option =
         cmd->add_option("--local-error-threshold", args->local_error_threshold,
                         "Also split the source of a link to an element at the --min-area floor while its form "
                         "factor may vary by more than this fraction of what the element receives (0: off); " +
                             presetValues(&SolverOptions::local_error_threshold))
-            ->check(CLI::NonNegativeNumber);
+            ->check(nonNegativeReal(1.0));
     args->min_area_option =
         cmd->add_option("--min-area", args->min_area,
                         "Smallest element area, relative to the scene's total area; " +
                             presetValues(&SolverOptions::min_element_area))
-            ->check(CLI::PositiveNumber);
+            ->check(positiveReal(1.0));
     args->tolerance_option =
         cmd->add_option("--tolerance", args->tolerance,
                         "Stop iterating when the residual, relative to the emitted light, is below this; " +
                             presetValues(&SolverOptions::iteration_tolerance))
-            ->check(CLI::PositiveNumber);
+            ->check(positiveReal(1.0));
     args->max_iterations_option =
         cmd->add_option("--max-iterations", args->max_iterations,
                         "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
-            ->check(CLI::PositiveNumber);
+            ->transform(wholeIn(1, kMaxIterations));
 
     cmd->add_option("--max-memory", args->max_memory_mb,
                     "Stop the solve with an error when the process holds more than this many MiB (0: 3/4 of "
                     "this machine's memory), instead of failing an allocation or being killed")
-        ->check(CLI::NonNegativeNumber)
+        ->check(nonNegativeReal(kMaxMemoryMb))
         ->capture_default_str();
     cmd->add_flag("--no-clustering", args->no_clustering,
                   "Link every facing pair of polygons instead of starting links between clusters of them "
@@ -254,32 +271,34 @@ void addBakeCommand(CLI::App& app, int& result) {
         ->check(CLI::IsMember({"off", "shared", "on"}));
     cmd->add_option("--solution", args->solution_file,
                     "Reuse the radiosity solution saved in this file when the scene and solver settings are the "
-                    "same (iterating on lightmap, vertex or probe settings), else solve and save it there");
+                    "same (iterating on lightmap, vertex or probe settings), else solve and save it there")
+        ->check(nonEmptyPath());
     cmd->add_flag("--no-lightmaps", args->no_lightmaps, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
     cmd->add_option("--texel-density", args->lightmaps.texels_per_unit, "Lightmap texels per scene unit")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveReal(kMaxTexelDensity))
         ->default_str("16 per metre, from --unit-scale");
     cmd->add_option("--atlas-size", args->lightmaps.atlas_size, "Largest lightmap atlas side, in texels")
-        ->check(CLI::Range(16, 16384))
+        ->transform(wholeIn(16, 16384))
         ->capture_default_str();
     cmd->add_option("--padding", args->lightmaps.padding,
                     "Texels around every chart, filled by dilation, so bilinear filtering never reads a neighbour")
-        ->check(CLI::Range(0, 64))
+        ->transform(wholeIn(0, 64))
         ->capture_default_str();
     args->texel_tolerance_option =
         cmd->add_option("--texel-tolerance", args->lightmaps.texel_tolerance,
                         "Interpolate a block of lightmap texels when the texels evaluated in it agree within this "
                         "fraction (0: evaluate every texel); " +
                             presetValuesOf([](const BakeOptions& preset) { return preset.lightmaps.texel_tolerance; }))
-            ->check(CLI::Range(0.0, 1.0));
+            ->check(nonNegativeReal(1.0));
     cmd->add_option("--max-texels", args->lightmaps.max_texels,
                     "Most lightmap texels (charts, padding excluded) a bake may evaluate; over it the default "
                     "density is lowered with a warning, a given --texel-density is an error")
-        ->check(CLI::PositiveNumber)
+        ->transform(wholeIn(1, kMaxTexels))
         ->capture_default_str();
     cmd->add_option("--lightmap-scales", args->lightmap_scales,
                     "Per-object lightmap density: a file of 'NAME SCALE' lines, NAME a mesh or material name, "
-                    "SCALE a factor on --texel-density for its meshes (applied within --max-texels)");
+                    "SCALE a factor on --texel-density for its meshes (applied within --max-texels)")
+        ->check(nonEmptyPath());
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
     cmd->add_flag("--preview", args->preview,
                   "Also write preview/: a tone-mapped PNG of each atlas and a view of the baked scene");

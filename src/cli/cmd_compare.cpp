@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "export/compare.h"
 
 namespace radbake::cli {
@@ -34,10 +35,10 @@ void addCompareCommand(CLI::App& app, int& result) {
     cmd->add_option("a", args->a, "Reference bake directory or file")->required();
     cmd->add_option("b", args->b, "Bake directory or file to check")->required();
     cmd->add_option("--rel-tol", args->options.rel_tol, "Relative tolerance: |a-b| <= T * max(|a|,|b|) passes")
-        ->check(CLI::NonNegativeNumber)
+        ->check(nonNegativeReal())
         ->capture_default_str();
     cmd->add_option("--abs-tol", args->options.abs_tol, "Absolute tolerance: |a-b| <= T passes")
-        ->check(CLI::NonNegativeNumber)
+        ->check(nonNegativeReal())
         ->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "Print nothing when within tolerance");
     cmd->callback([args, &result] { result = runCompare(*args); });

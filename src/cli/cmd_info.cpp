@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "io/import.h"
 #include "scene/two_sided.h"
 
@@ -85,9 +86,7 @@ void addInfoCommand(CLI::App& app, int& result) {
     CLI::App* cmd = app.add_subcommand("info", "Print what was read from a scene file");
     cmd->add_option("scene", args->scene, "Scene file (VRML97, VRML 1.0, or any format Assimp reads)")->required();
     cmd->add_flag("--json", args->json, "Print a JSON object on stdout");
-    cmd->add_option("--unit-scale", args->import.unit_scale, "Metres per scene unit")->capture_default_str();
-    cmd->add_option("--emission-scale", args->import.emission_scale, "Multiplies every emitted radiance")
-        ->capture_default_str();
+    addSceneScaleOptions(*cmd, args->import);
     cmd->add_flag("--strict", args->import.strict, "Unknown VRML nodes and fields are errors");
     cmd->callback([args, &result] { result = runInfo(*args); });
 }

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -14,6 +13,7 @@
 #include <string_view>
 
 #include "core/diagnostics.h"
+#include "core/regular_file.h"
 #include "export/json_detail.h"
 
 namespace radbake {
@@ -24,13 +24,12 @@ using nlohmann::json;
 
 [[noreturn]] void fail(const std::string& what) { throw std::runtime_error(what); }
 
+// A FIFO named on the command line fails the comparison; it never blocks it.
 std::string readBytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot open");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) fail("cannot read");
-    return text.str();
+    std::string why;
+    std::optional<std::string> bytes = readRegularFile(path.string(), why);
+    if (!bytes) fail("cannot open: " + why);
+    return std::move(*bytes);
 }
 
 template <typename T>

@@ -4,13 +4,13 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <map>
 #include <set>
 
 #include "bake/lightmap_charts.h"
+#include "core/regular_file.h"
 #include "export/json_detail.h"
 #include "export/mesh_attributes.h"
 #include "export/output_transaction.h"
@@ -273,10 +273,10 @@ int addImageTexture(TextureTable& table, JsonLists& lists, std::string& bin, con
     return static_cast<int>(table.textures.size()) - 1;
 }
 
+// Empty when it is not a regular file (a FIFO would block the write) or cannot be read.
 std::string fileBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return {};
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::string why;
+    return readRegularFile(path, why).value_or(std::string());
 }
 
 // The texture index of `path`, adding its image on first use; -1 when it cannot be read (the

@@ -8,6 +8,8 @@
 #include <memory>
 #include <vector>
 
+#include "core/regular_file.h"
+
 namespace radbake {
 
 namespace {
@@ -59,18 +61,19 @@ std::string sha256Hex(std::string_view bytes) {
 
 std::optional<std::string> sha256File(const std::filesystem::path& path, Diagnostics& diagnostics) {
     const SourceLocation where{path.string(), 0, 0};
-    std::FILE* file = std::fopen(path.c_str(), "rb");
+    // Never a FIFO (open would wait for a writer) or a device (/dev/zero never ends).
+    std::string why;
+    const InputFile file = openRegularFile(path.string(), why);
     if (!file) {
-        diagnostics.error(where, std::string("cannot open file to hash it: ") + std::strerror(errno));
+        diagnostics.error(where, "cannot open file to hash it: " + why);
         return std::nullopt;
     }
     Sha256 sha;
     std::vector<char> block(1 << 16);
     size_t got = 0;
-    while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) sha.update(block.data(), got);
-    const bool read_error = std::ferror(file) != 0;
+    while ((got = std::fread(block.data(), 1, block.size(), file.get())) > 0) sha.update(block.data(), got);
+    const bool read_error = std::ferror(file.get()) != 0;
     const int saved_errno = errno;
-    std::fclose(file);
     if (read_error) {
         diagnostics.error(where, std::string("cannot read file to hash it: ") + std::strerror(saved_errno));
         return std::nullopt;

@@ -16,6 +16,8 @@
 #include <string>
 #include <system_error>
 
+#include "core/regular_file.h"
+
 namespace radbake {
 
 namespace fs = std::filesystem;
@@ -445,6 +447,56 @@ void OutputTransaction::abandon() {
     for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) fs::remove(*it, ec);
     created_dirs_.clear();
     unlock();
+}
+
+namespace {
+
+// Every byte to `fd`, through partial writes and signals; false with errno set otherwise.
+bool writeAll(int fd, std::string_view bytes) {
+    while (!bytes.empty()) {
+        const ssize_t wrote = ::write(fd, bytes.data(), bytes.size());
+        if (wrote < 0 && errno == EINTR) continue;
+        if (wrote <= 0) return false;
+        bytes.remove_prefix(static_cast<size_t>(wrote));
+    }
+    return true;
+}
+
+// Writes the temporary; empty on success, else why. What is already at `temporary` (a
+// killed run's leftover) is replaced, unless it is a FIFO, a device or a link: O_NOFOLLOW
+// and O_NONBLOCK keep the open from following or waiting, fstat refuses what is not regular.
+std::string writeTemporary(const fs::path& temporary, std::string_view bytes) {
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+    if (fd < 0) return "cannot create " + temporary.string() + ": " + std::strerror(errno);
+    struct stat status {};
+    if (::fstat(fd, &status) != 0 || !S_ISREG(status.st_mode)) {
+        ::close(fd);
+        return temporary.string() + " is in the way: not a regular file";
+    }
+    const bool wrote = writeAll(fd, bytes);
+    const int write_errno = errno;
+    const bool closed = ::close(fd) == 0;
+    if (!wrote || !closed) {
+        const std::string why = std::strerror(wrote ? errno : write_errno);
+        ::unlink(temporary.c_str());
+        return why;
+    }
+    return {};
+}
+
+}  // namespace
+
+std::string replaceRegularFile(const fs::path& path, std::string_view bytes) {
+    if (std::string why = whyNotReplaceable(path.string()); !why.empty()) return why;
+    fs::path temporary = path;
+    temporary += ".radbake-tmp";
+    if (std::string why = writeTemporary(temporary, bytes); !why.empty()) return why;
+    if (::rename(temporary.c_str(), path.c_str()) != 0) {
+        const std::string why = std::strerror(errno);
+        ::unlink(temporary.c_str());
+        return why;
+    }
+    return {};
 }
 
 bool writeFileBytes(const fs::path& path, std::string_view bytes, Diagnostics& diagnostics) {

@@ -88,4 +88,10 @@ void cleanUpStagingOnSignals();
 // Writes `bytes` to `path` (create or truncate) and checks every step, including the close.
 bool writeFileBytes(const std::filesystem::path& path, std::string_view bytes, Diagnostics& diagnostics);
 
+// Replaces the file at `path` with `bytes`, whole or not at all: written to PATH.radbake-tmp,
+// then renamed over it. Only a regular file (or nothing) is replaced: a directory, FIFO,
+// device or socket at `path` is refused and kept. Empty on success, else why it failed (the
+// real cause, never "Success"); no temporary is left behind either way.
+std::string replaceRegularFile(const std::filesystem::path& path, std::string_view bytes);
+
 }  // namespace radbake

@@ -3,9 +3,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
+#include "core/regular_file.h"
 #include "export/output_transaction.h"
 
 namespace radbake {
@@ -110,19 +109,15 @@ std::vector<Probe> parseProbes(std::string_view text, const std::string& file_na
 }
 
 std::optional<std::vector<Probe>> readProbes(const std::string& path, Diagnostics& diagnostics) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        diagnostics.error({path, 0, 0}, "cannot open probe file");
-        return std::nullopt;
-    }
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    if (in.bad()) {
-        diagnostics.error({path, 0, 0}, "cannot read probe file");
+    // A FIFO would block the bake before it starts, a device never end.
+    std::string why;
+    const std::optional<std::string> text = readRegularFile(path, why);
+    if (!text) {
+        diagnostics.error({path, 0, 0}, "cannot open probe file: " + why);
         return std::nullopt;
     }
     const int errors_before = diagnostics.errorCount();
-    std::vector<Probe> probes = parseProbes(buffer.str(), path, diagnostics);
+    std::vector<Probe> probes = parseProbes(*text, path, diagnostics);
     if (diagnostics.errorCount() > errors_before) return std::nullopt;
     return probes;
 }

@@ -134,9 +134,11 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     std::string hashes;
     for (size_t i = 0; i < inputs.size(); ++i) {
         // A texture named but absent (warned at import) is an input too: "absent" is its
-        // state, so adding the file changes the provenance.
+        // state, so adding the file changes the provenance. So is one that is not a regular
+        // file (a FIFO, a device, a directory: warned too), which is never read.
         std::error_code ec;
-        if (!std::filesystem::exists(inputs[i], ec)) {
+        const std::filesystem::file_status status = std::filesystem::status(inputs[i], ec);
+        if (!std::filesystem::exists(status) || !std::filesystem::is_regular_file(status)) {
             hashes += "absent\n";
             continue;
         }

@@ -1,7 +1,5 @@
 #include "pipeline/depfile.h"
 
-#include <system_error>
-
 #include "export/output_transaction.h"
 
 namespace radbake {
@@ -31,17 +29,10 @@ std::string formatDepfile(const std::vector<std::string>& targets, const std::ve
 
 bool writeDepfile(const std::filesystem::path& path, const std::vector<std::string>& targets,
                   const std::vector<std::string>& inputs, Diagnostics& diagnostics) {
-    std::filesystem::path temporary = path;
-    temporary += ".radbake-tmp";
-    if (!writeFileBytes(temporary, formatDepfile(targets, inputs), diagnostics)) return false;
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) {
-        std::filesystem::remove(temporary, ec);
-        diagnostics.error({path.string(), 0, 0}, "cannot write the depfile: " + ec.message());
-        return false;
-    }
-    return true;
+    const std::string why = replaceRegularFile(path, formatDepfile(targets, inputs));
+    if (why.empty()) return true;
+    diagnostics.error({path.string(), 0, 0}, "cannot write the depfile: " + why);
+    return false;
 }
 
 }  // namespace radbake

@@ -13,7 +13,8 @@ namespace radbake {
 // "target1 target2: input1 input2\n", each path escaped for Make (spaces, '#', '$').
 std::string formatDepfile(const std::vector<std::string>& targets, const std::vector<std::string>& inputs);
 
-// Writes it to `path` whole or not at all (a temporary file renamed into place).
+// Writes it to `path` whole or not at all (a temporary file renamed into place), replacing
+// only a regular file: a directory, FIFO or device there is an error and is kept.
 bool writeDepfile(const std::filesystem::path& path, const std::vector<std::string>& targets,
                   const std::vector<std::string>& inputs, Diagnostics& diagnostics);
 

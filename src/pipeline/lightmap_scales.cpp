@@ -3,11 +3,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
+#include "core/regular_file.h"
 #include "scene/two_sided.h"
 
 namespace radbake {
@@ -59,23 +58,14 @@ std::optional<std::vector<LightmapScaleRule>> parseLightmapScales(const std::str
 }
 
 std::optional<std::vector<LightmapScaleRule>> readLightmapScales(const std::string& path, Diagnostics& diagnostics) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) {  // a folder opens, then reads as nothing
-        diagnostics.error({path, 0, 0}, "cannot open lightmap scale file: not a regular file");
+    // A folder would read as nothing, a FIFO block the bake.
+    std::string why;
+    const std::optional<std::string> text = readRegularFile(path, why);
+    if (!text) {
+        diagnostics.error({path, 0, 0}, "cannot open lightmap scale file: " + why);
         return std::nullopt;
     }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        diagnostics.error({path, 0, 0}, "cannot open lightmap scale file");
-        return std::nullopt;
-    }
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    if (in.bad()) {
-        diagnostics.error({path, 0, 0}, "cannot read lightmap scale file");
-        return std::nullopt;
-    }
-    return parseLightmapScales(buffer.str(), path, diagnostics);
+    return parseLightmapScales(*text, path, diagnostics);
 }
 
 std::vector<double> meshTexelScales(const Scene& scene, const std::vector<LightmapScaleRule>& rules,

@@ -3,13 +3,13 @@
 #include "pipeline/solution_cache.h"
 
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <system_error>
 #include <type_traits>
 #include <vector>
 
+#include "core/regular_file.h"
 #include "export/hash.h"
+#include "export/output_transaction.h"
 #include "pipeline/bake_options.h"
 #include "visibility/ray_caster.h"
 
@@ -130,34 +130,28 @@ bool saveSolution(const Solution& s, const std::string& key, const std::filesyst
     w.value(s.scene_extent);
     w.value(s.total_area);
     w.value(s.stats);
-    std::filesystem::path temporary = file;
-    temporary += ".partial";
-    {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        out.write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
-        if (!out.good()) {
-            diagnostics.warning({file.string(), 0, 0}, "could not write the solution cache");
-            std::error_code ec;
-            std::filesystem::remove(temporary, ec);
-            return false;
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(temporary, file, ec);
-    if (ec) {
-        diagnostics.warning({file.string(), 0, 0}, "could not write the solution cache: " + ec.message());
-        std::filesystem::remove(temporary, ec);
-        return false;
-    }
-    return true;
+    const std::string why = replaceRegularFile(file, w.bytes);
+    if (why.empty()) return true;
+    diagnostics.warning({file.string(), 0, 0}, "could not write the solution cache: " + why);
+    return false;
 }
 
 std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
                                      const std::filesystem::path& file, int threads, Diagnostics& diagnostics) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) return std::nullopt;
-    std::ifstream in(file, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // Refused before the solve, as it would be replaced after it.
+    if (const std::string why = whyNotReplaceable(file.string()); !why.empty()) {
+        diagnostics.error({file.string(), 0, 0}, "cannot use the solution file: " + why);
+        return std::nullopt;
+    }
+    std::string why;
+    const std::optional<std::string> read = readRegularFile(file.string(), why);
+    if (!read) {  // absent: solve and save it, without a word
+        std::error_code ec;
+        if (std::filesystem::exists(file, ec))
+            diagnostics.note({file.string(), 0, 0}, "cannot read the saved solution (" + why + "): solving again");
+        return std::nullopt;
+    }
+    const std::string& bytes = *read;
     const std::string header = std::string(kMagic) + key + "\n";
     if (bytes.compare(0, header.size(), header) != 0) {
         diagnostics.note({file.string(), 0, 0}, "the saved solution is for another scene or other solver settings: solving again");

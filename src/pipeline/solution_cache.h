@@ -21,13 +21,14 @@ namespace radbake {
 
 std::string solutionKey(const Scene& scene, const SolverOptions& options);
 
-// Writes the solution (to a temporary name, then renamed). False after a warning: a cache
-// that cannot be written does not fail the bake.
+// Writes the solution (to a temporary name, then renamed over a regular file or nothing).
+// False after a warning: a cache that cannot be written does not fail the bake.
 bool saveSolution(const Solution& solution, const std::string& key, const std::filesystem::path& file,
                   Diagnostics& diagnostics);
 
 // The solution saved under `key` in `file`, for `scene` (which it then points to); nullopt
-// when the file is absent, holds another key or cannot be read (a note says why).
+// when the file is absent, holds another key or cannot be read (a note says why), or is not
+// a regular file (a directory, FIFO, device: an error, as the bake would replace it).
 std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
                                      const std::filesystem::path& file, int threads, Diagnostics& diagnostics);
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <memory>
 
+#include "core/regular_file.h"
+
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC  // private copy: no symbol clash with any other stb user
 #include <stb_image.h>
@@ -13,29 +15,48 @@
 namespace radbake {
 namespace {
 
-// stb_image over the file at texture.path or over texture.embedded.
-struct ImageSource {
-    const TextureRef& texture;
-
-    const stbi_uc* bytes() const { return reinterpret_cast<const stbi_uc*>(texture.embedded->data()); }
-    int size() const { return static_cast<int>(std::min<size_t>(texture.embedded->size(), INT_MAX)); }
-    const char* file() const { return texture.path.c_str(); }
+// stb_image over texture.embedded, or over the file at texture.path, opened once and only
+// when it is a regular file (stb_image would wait forever on a FIFO, read /dev/zero forever).
+class ImageSource {
+public:
+    ImageSource(const TextureRef& texture, std::string& why) : texture_(texture) {
+        if (!texture.embedded) file_ = openRegularFile(texture.path, why);
+    }
+    bool opened() const { return texture_.embedded || file_; }
 
     bool info(int* w, int* h, int* c) const {
-        return texture.embedded ? stbi_info_from_memory(bytes(), size(), w, h, c) : stbi_info(file(), w, h, c);
+        return texture_.embedded ? stbi_info_from_memory(bytes(), size(), w, h, c) : stbi_info_from_file(rewound(), w, h, c);
     }
-    bool isHdr() const { return texture.embedded ? stbi_is_hdr_from_memory(bytes(), size()) : stbi_is_hdr(file()); }
-    bool is16Bit() const { return texture.embedded ? stbi_is_16_bit_from_memory(bytes(), size()) : stbi_is_16_bit(file()); }
+    bool isHdr() const {
+        return texture_.embedded ? stbi_is_hdr_from_memory(bytes(), size()) : stbi_is_hdr_from_file(rewound());
+    }
+    bool is16Bit() const {
+        return texture_.embedded ? stbi_is_16_bit_from_memory(bytes(), size()) : stbi_is_16_bit_from_file(rewound());
+    }
     float* loadFloat(int* w, int* h, int* c, int wanted) const {
-        return texture.embedded ? stbi_loadf_from_memory(bytes(), size(), w, h, c, wanted) : stbi_loadf(file(), w, h, c, wanted);
+        return texture_.embedded ? stbi_loadf_from_memory(bytes(), size(), w, h, c, wanted)
+                                 : stbi_loadf_from_file(rewound(), w, h, c, wanted);
     }
     stbi_us* load16(int* w, int* h, int* c, int wanted) const {
-        return texture.embedded ? stbi_load_16_from_memory(bytes(), size(), w, h, c, wanted)
-                                : stbi_load_16(file(), w, h, c, wanted);
+        return texture_.embedded ? stbi_load_16_from_memory(bytes(), size(), w, h, c, wanted)
+                                 : stbi_load_from_file_16(rewound(), w, h, c, wanted);
     }
     stbi_uc* load8(int* w, int* h, int* c, int wanted) const {
-        return texture.embedded ? stbi_load_from_memory(bytes(), size(), w, h, c, wanted) : stbi_load(file(), w, h, c, wanted);
+        return texture_.embedded ? stbi_load_from_memory(bytes(), size(), w, h, c, wanted)
+                                 : stbi_load_from_file(rewound(), w, h, c, wanted);
     }
+
+private:
+    const stbi_uc* bytes() const { return reinterpret_cast<const stbi_uc*>(texture_.embedded->data()); }
+    int size() const { return static_cast<int>(std::min<size_t>(texture_.embedded->size(), INT_MAX)); }
+    // Each call reads the file from its start, whatever the call before it read.
+    std::FILE* rewound() const {
+        std::rewind(file_.get());
+        return file_.get();
+    }
+
+    const TextureRef& texture_;
+    InputFile file_;
 };
 
 std::string failure(const char* fallback) { return stbi_failure_reason() ? stbi_failure_reason() : fallback; }
@@ -63,7 +84,8 @@ Vec4 TextureImage::texel(int64_t x, int64_t y) const {
 }
 
 std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error) {
-    const ImageSource source{texture};
+    const ImageSource source(texture, error);
+    if (!source.opened()) return std::nullopt;
     TextureImage image;
     int channels = 0;
     if (!source.info(&image.width, &image.height, &channels)) {
@@ -111,14 +133,17 @@ std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srg
 }
 
 int imageChannels(const TextureRef& texture) {
+    std::string why;
+    const ImageSource source(texture, why);
     int width = 0, height = 0, channels = 0;
-    return ImageSource{texture}.info(&width, &height, &channels) ? channels : 0;
+    return source.opened() && source.info(&width, &height, &channels) ? channels : 0;
 }
 
 bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error) {
+    const ImageSource source(texture, error);
+    if (!source.opened()) return false;
     int channels = 0;
-    std::unique_ptr<stbi_uc, void (*)(void*)> data(ImageSource{texture}.load8(&width, &height, &channels, 4),
-                                                   stbi_image_free);
+    std::unique_ptr<stbi_uc, void (*)(void*)> data(source.load8(&width, &height, &channels, 4), stbi_image_free);
     if (!data) {
         error = failure("cannot decode");
         return false;

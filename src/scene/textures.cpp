@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "core/regular_file.h"
 #include "scene/texture_image.h"
 
 namespace radbake {
@@ -165,11 +166,9 @@ void applyTextures(Scene& scene, Diagnostics& diagnostics) {
         const TextureRef& ref = first_named[path];
         const std::optional<TextureImage> image = readTextureImage(ref, true, error);
         if (!image) {
-            std::error_code ec;
-            const bool exists = ref.embedded || std::filesystem::is_regular_file(path, ec);
-            diagnostics.warning(ref.location, "cannot read texture '" + path + "' (" +
-                                                       (exists ? error : std::string("no such file")) +
-                                                       "); the material's own colour is used");
+            // A missing file, a FIFO or a directory alike: warned, and the bake goes on.
+            diagnostics.warning(ref.location,
+                                "cannot read texture '" + path + "' (" + error + "); the material's own colour is used");
             failed.insert(path);
             continue;
         }
@@ -178,11 +177,10 @@ void applyTextures(Scene& scene, Diagnostics& diagnostics) {
     // Normal maps are only passed through to the glb: say now when one is missing.
     for (const Material& material : scene.materials) {
         const std::string& path = material.normal_texture.path;
-        std::error_code ec;
-        if (path.empty() || material.normal_texture.embedded || failed.count(path) ||
-            std::filesystem::is_regular_file(path, ec))
-            continue;
-        diagnostics.warning(material.normal_texture.location, "cannot read normal map '" + path + "' (no such file); not written");
+        if (path.empty() || material.normal_texture.embedded || failed.count(path)) continue;
+        const std::string why = whyNotRegularFile(path);
+        if (why.empty()) continue;
+        diagnostics.warning(material.normal_texture.location, "cannot read normal map '" + path + "' (" + why + "); not written");
         failed.insert(path);
     }
 }

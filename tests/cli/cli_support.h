@@ -28,8 +28,11 @@ struct RunResult {
 };
 
 // Runs `radbake ARGS` with stderr merged into stdout; ARGS is passed to the shell as is.
-inline RunResult runRadbake(const std::string& args) {
-    const std::string command = std::string("'") + RADBAKE_EXE + "' " + args + " 2>&1";
+// With `seconds`, a run that takes longer is killed (exit status 137): a hang fails the test
+// instead of stopping the suite.
+inline RunResult runRadbake(const std::string& args, int seconds = 0) {
+    const std::string limit = seconds > 0 ? "timeout -s KILL " + std::to_string(seconds) + " " : std::string();
+    const std::string command = limit + "'" + RADBAKE_EXE + "' " + args + " 2>&1";
     RunResult result;
     std::FILE* pipe = popen(command.c_str(), "r");
     REQUIRE(pipe != nullptr);

@@ -1,11 +1,16 @@
 // SHA-256 against the FIPS 180-2 example vectors, in memory and streamed from files.
 #include <doctest/doctest.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
+#include <thread>
 
 #include "export/hash.h"
 
@@ -63,11 +68,36 @@ TEST_CASE("sha256File reports a missing file and a directory at their paths") {
     CHECK_FALSE(sha256File(missing, diagnostics).has_value());
     REQUIRE(diagnostics.errorCount() == 1);
     CHECK(diagnostics.all()[0].location.file == missing.string());
-    CHECK(diagnostics.all()[0].message == "cannot open file to hash it: No such file or directory");
+    CHECK(diagnostics.all()[0].message == "cannot open file to hash it: no such file");
 
     const fs::path directory = fs::temp_directory_path();
     CHECK_FALSE(sha256File(directory, diagnostics).has_value());
     REQUIRE(diagnostics.errorCount() == 2);
     CHECK(diagnostics.all()[1].location.file == directory.string());
-    CHECK(diagnostics.all()[1].message == "cannot read file to hash it: Is a directory");
+    CHECK(diagnostics.all()[1].message == "cannot open file to hash it: not a regular file (a directory)");
+}
+
+TEST_CASE("sha256File never reads a FIFO: it is refused by name, not waited on") {
+    std::string pattern = (fs::temp_directory_path() / "radbake-hash-XXXXXX").string();
+    REQUIRE(::mkdtemp(pattern.data()) != nullptr);
+    const fs::path fifo = fs::path(pattern) / "fifo";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    // A writer that feeds whoever opens the FIFO: a hash that read it would succeed.
+    std::thread writer([&] {
+        if (std::FILE* file = std::fopen(fifo.c_str(), "wb")) {
+            std::fputs("bytes", file);
+            std::fclose(file);
+        }
+    });
+    Diagnostics diagnostics;
+    const std::optional<std::string> hash = sha256File(fifo, diagnostics);
+    // Releases the writer when the hash did not open the FIFO (it waits for a reader).
+    const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
+    writer.join();
+    if (reader >= 0) ::close(reader);
+    fs::remove_all(pattern);
+    CHECK_FALSE(hash.has_value());
+    REQUIRE(diagnostics.errorCount() == 1);
+    CHECK(diagnostics.all()[0].location.file == fifo.string());
+    CHECK(diagnostics.all()[0].message == "cannot open file to hash it: not a regular file (a FIFO)");
 }

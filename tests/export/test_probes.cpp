@@ -75,7 +75,7 @@ TEST_CASE("probe files: each bad line is a located error and the good lines stil
 TEST_CASE("probe file that cannot be read") {
     Diagnostics diagnostics;
     CHECK_FALSE(readProbes("/nonexistent/probes.txt", diagnostics).has_value());
-    CHECK(messages(diagnostics) == std::vector<std::string>{"/nonexistent/probes.txt: error: cannot open probe file"});
+    CHECK(messages(diagnostics) == std::vector<std::string>{"/nonexistent/probes.txt: error: cannot open probe file: no such file"});
 }
 
 TEST_CASE("probes.csv: header, input order, round-tripping digits") {

@@ -2,6 +2,7 @@
 // includes Assimp: nothing of Assimp (types, exceptions, its global logger) leaks out of here.
 #include "io/assimp/assimp_reader.h"
 
+#include <assimp/DefaultIOStream.h>
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +25,7 @@
 #include <span>
 #include <string_view>
 
+#include "core/regular_file.h"
 #include "scene/triangulate.h"
 
 namespace radbake {
@@ -421,16 +424,26 @@ bool isRegularFile(const char* file) {
     return file != nullptr && std::filesystem::is_regular_file(file, ec);
 }
 
-// Assimp's own file access, noting every file it opens (the scene, its MTL, ...).
+// Assimp's stream over a file opened here (its constructor from a FILE* is protected).
+class RegularFileStream final : public Assimp::DefaultIOStream {
+public:
+    RegularFileStream(std::FILE* file, const std::string& name) : Assimp::DefaultIOStream(file, name) {}
+};
+
+// Assimp's own file access, noting every file it opens (the scene, its MTL, ...). It reads;
+// a file is opened only when it is regular, checked on the open file itself.
 class RecordingIOSystem final : public Assimp::DefaultIOSystem {
 public:
     explicit RecordingIOSystem(std::vector<std::string>* files) : files_(files) {}
     bool Exists(const char* file) const override { return isRegularFile(file); }
     Assimp::IOStream* Open(const char* file, const char* mode) override {
-        if (!isRegularFile(file)) return nullptr;
-        Assimp::IOStream* stream = Assimp::DefaultIOSystem::Open(file, mode);
-        if (stream && files_) files_->emplace_back(file);
-        return stream;
+        if (file == nullptr || mode == nullptr || std::string_view(mode).find_first_of("wa+") != std::string_view::npos)
+            return nullptr;
+        std::string why;
+        InputFile opened = openRegularFile(file, why);
+        if (!opened) return nullptr;
+        if (files_) files_->emplace_back(file);
+        return new RegularFileStream(opened.release(), file);
     }
 
 private:
@@ -440,11 +453,33 @@ private:
 // ---------------------------------------------------------------------------------------
 // Checks before Assimp sees a file, for inputs that crash Assimp 5.2.5 (docs/fuzzing.md).
 
+constexpr size_t kPlyEndLength = 10;  // "end_header"
+
+// What may follow `end_header` for Assimp to end the header there: a blank, or a line end it
+// reads safely. Its token match takes '\v' for part of the token (the header never ends: a
+// hang, or a SEGV on a binary body), and its line reader, having stopped at '\f' or '\0',
+// scans on for a '\n' that may not be there.
+bool endsPlyHeader(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+// The file's line and column of head[at] (head is the file after its 3-byte magic "ply").
+SourceLocation plyLocation(const std::string& path, const std::string& head, size_t at) {
+    const size_t line_start = at == 0 ? std::string::npos : head.rfind('\n', at - 1);
+    const size_t column = line_start == std::string::npos ? at + 4 : at - line_start;
+    return {path, static_cast<int>(1 + std::count(head.begin(), head.begin() + static_cast<std::ptrdiff_t>(at), '\n')),
+            static_cast<int>(column)};
+}
+
+std::string byteName(char c) {
+    char text[16];
+    std::snprintf(text, sizeof text, "byte 0x%02x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+    return text;
+}
+
 // Assimp 5.2.5's PLY importer runs past its buffer when the header never ends: a SEGV, or
 // memory growing without bound (fuzz_assimp_ply, minimized: "ply\nformat binary_tm"). A file
 // starting with "ply" (any case, as Assimp's magic check) must therefore have a line that is
-// the token `end_header` within its first MiB; otherwise it is a located error here and
-// Assimp never sees it.
+// the token `end_header` within its first MiB; otherwise it is a located error here (at
+// the byte after the token when that is white space Assimp misreads) and Assimp never sees it.
 bool checkPlyHeader(const std::string& path, Diagnostics& diagnostics) {
     constexpr size_t kMaxHeader = size_t(1) << 20;
     std::ifstream in(path, std::ios::binary);
@@ -456,13 +491,23 @@ bool checkPlyHeader(const std::string& path, Diagnostics& diagnostics) {
     std::string head(kMaxHeader, '\0');
     in.read(head.data(), static_cast<std::streamsize>(head.size()));
     head.resize(static_cast<size_t>(in.gcount()));
+    size_t bad_end = std::string::npos;  // the first `end_header` followed by white space Assimp misreads
     for (size_t at = head.find('\n'); at != std::string::npos; at = head.find('\n', at + 1)) {
         const size_t first = head.find_first_not_of(" \t", at + 1);
-        // The token alone, followed by white space: "end_headerat z" does not end the header,
-        // and an end_header that is the file's last bytes hangs Assimp's line reader.
-        if (first == std::string::npos || head.compare(first, 10, "end_header") != 0) continue;
-        if (first + 10 < head.size() && std::string_view(" \t\r\n\f\v", 6).find(head[first + 10]) != std::string_view::npos)
-            return true;
+        // The token alone: "end_headerat z" does not end the header, and an end_header that
+        // is the file's last bytes hangs Assimp's line reader.
+        if (first == std::string::npos || head.compare(first, kPlyEndLength, "end_header") != 0) continue;
+        const size_t after = first + kPlyEndLength;
+        if (after >= head.size()) continue;
+        if (endsPlyHeader(head[after])) return true;
+        if (std::isspace(static_cast<unsigned char>(head[after])) || head[after] == '\0')
+            bad_end = std::min(bad_end, after);
+    }
+    if (bad_end != std::string::npos) {
+        diagnostics.error(plyLocation(path, head, bad_end),
+                          "PLY end_header is followed by " + byteName(head[bad_end]) +
+                              ", not a space, tab or line end: the header would not end where it should");
+        return false;
     }
     diagnostics.error({path, 1, 1}, head.size() == kMaxHeader ? "PLY header has no end_header line in its first MiB"
                                                               : "PLY header has no end_header line");

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 
+#include "core/regular_file.h"
 #include "io/vrml/vrml1_reader.h"
 #include "io/vrml/vrml97_builder.h"
 
@@ -179,28 +179,17 @@ namespace vrml {
 
 std::optional<std::string> loadText(const std::string& path, const SourceLocation& from, const VrmlOptions& options,
                                     Diagnostics& diagnostics) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        diagnostics.error(from, "cannot open '" + path + "'");
+    // Only a regular file: an Inline naming a FIFO must not block the import.
+    std::string why;
+    std::optional<std::string> read = readRegularFile(path, why);
+    if (!read) {
+        diagnostics.error(from, "cannot read '" + path + "': " + why);
         return std::nullopt;
     }
     if (options.files_read) options.files_read->push_back(path);
-    std::string bytes;
-    in.seekg(0, std::ios::end);
-    const std::streamoff size = in.tellg();
-    in.seekg(0, std::ios::beg);
-    if (size > 0) {
-        bytes.resize(static_cast<size_t>(size));
-        in.read(bytes.data(), size);
-        bytes.resize(static_cast<size_t>(in.gcount()));
-    }
-    if (in.bad()) {
-        diagnostics.error(from, "cannot read '" + path + "'");
-        return std::nullopt;
-    }
-    if (!isGzip(bytes)) return bytes;
+    if (!isGzip(*read)) return read;
     std::string text, reason;
-    if (!gunzip(bytes, text, reason)) {
+    if (!gunzip(*read, text, reason)) {
         diagnostics.error(from, "'" + path + "': " + reason);
         return std::nullopt;
     }

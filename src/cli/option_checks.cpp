@@ -1,0 +1,95 @@
+#include "cli/option_checks.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace radbake::cli {
+namespace {
+
+// "1e6" rather than "1e+06" or 310 digits: %g with the exponent's sign and zeros dropped.
+std::string readable(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    std::string out = text;
+    const size_t e = out.find('e');
+    if (e == std::string::npos) return out;
+    std::string exponent = out.substr(e + 1);
+    const bool negative = exponent.front() == '-';
+    exponent.erase(0, exponent.find_first_not_of("+-0"));
+    return out.substr(0, e + 1) + (negative ? "-" : "") + (exponent.empty() ? "0" : exponent);
+}
+
+std::string describeReal(double low, double high, bool low_open) {
+    if (std::isinf(high)) return (low_open ? "> " : ">= ") + readable(low);
+    return std::string("in ") + (low_open ? "(" : "[") + readable(low) + ", " + readable(high) + "]";
+}
+
+// The whole text as a number, read as CLI11 reads it; false for anything else.
+bool parseReal(const std::string& text, double& value) {
+    if (text.empty()) return false;
+    char* end = nullptr;
+    const long double parsed = std::strtold(text.c_str(), &end);
+    value = static_cast<double>(parsed);
+    return end == text.c_str() + text.size();
+}
+
+// Plain decimal digits with an optional sign; `overflow` when they exceed a long long.
+bool parseWhole(const std::string& text, long long& value, bool& overflow) {
+    const size_t start = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+    if (text.size() <= start || text.find_first_not_of("0123456789", start) != std::string::npos) return false;
+    errno = 0;
+    value = std::strtoll(text.c_str(), nullptr, 10);
+    overflow = errno == ERANGE;
+    return true;
+}
+
+}  // namespace
+
+CLI::Validator realIn(double low, double high, bool low_open) {
+    const std::string range = describeReal(low, high, low_open);
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            double value = 0.0;
+            if (text.empty()) return "an empty value is not a number " + range;
+            if (!parseReal(text, value)) return "'" + text + "' is not a number " + range;
+            if (!std::isfinite(value)) return "'" + text + "' is not a finite number " + range;
+            if (value < low || (low_open && value == low) || value > high) return "'" + text + "' is not " + range;
+            return {};
+        },
+        range);
+}
+
+CLI::Validator wholeIn(long long low, long long high) {
+    const std::string range = "in [" + std::to_string(low) + ", " + std::to_string(high) + "]";
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            long long value = 0;
+            bool overflow = false;
+            if (text.empty()) return "an empty value is not a whole number " + range;
+            if (!parseWhole(text, value, overflow)) return "'" + text + "' is not a whole number " + range;
+            if (overflow || value < low || value > high) return "'" + text + "' is not " + range;
+            text = std::to_string(value);
+            return {};
+        },
+        range);
+}
+
+void addSceneScaleOptions(CLI::App& command, ImportOptions& import) {
+    // Micrometres to a thousand kilometres per unit: beyond them a float scene loses its shape.
+    command.add_option("--unit-scale", import.unit_scale, "Metres per scene unit")
+        ->check(realIn(1e-6, 1e6))
+        ->capture_default_str();
+    command.add_option("--emission-scale", import.emission_scale, "Multiplies every emitted radiance")
+        ->check(nonNegativeReal(1e6))
+        ->capture_default_str();
+}
+
+CLI::Validator nonEmptyPath() {
+    return CLI::Validator([](std::string& text) { return text.empty() ? std::string("an empty path is not a file") : ""; },
+                          "");
+}
+
+}  // namespace radbake::cli
