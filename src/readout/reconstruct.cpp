@@ -2,7 +2,10 @@
 #include "readout/reconstruct.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "radiosity/cluster.h"
@@ -99,8 +102,34 @@ uint32_t nearest(const Solution& s, const Range& candidates, const DVec3& p) {
 
 }  // namespace
 
+namespace {
+
+std::atomic<uint64_t> g_reconstructions{0};
+
+// A point read on a root lies within this many lifts of its polygon (gather.h, liftOffSurfaces);
+// and its normal within this angle (radians) of the root's.
+constexpr double kRootMarginLifts = 8.0;
+constexpr double kRootNormalSlack = 1e-2;
+constexpr size_t kCachedRoots = 8;
+
+// Whether `source` can face some point near `root`'s polygon with a vertex above that point's
+// horizon (the gather's inFront), with the margins above: false only when it cannot.
+bool canFace(const Solution& s, const Element& source, const Element& root, double margin) {
+    const PolygonView sp = polygonOf(s, source), rp = polygonOf(s, root);
+    double in_front = -std::numeric_limits<double>::infinity();
+    for (const DVec3& v : rp.vertices) in_front = std::max(in_front, glm::dot(source.normal, v - sp.vertices[0]));
+    if (in_front + margin <= 0.0) return false;
+    for (const DVec3& v : sp.vertices) {
+        const double slack = margin + kRootNormalSlack * (glm::length(v - root.centroid) + root.radius);
+        if (glm::dot(root.normal, v - rp.vertices[0]) + slack > 0.0) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
 LinkReconstruction::LinkReconstruction(const Solution& solution, const ReadoutOptions& options, ParallelRunner& runner)
-    : s_(solution), o_(options) {
+    : s_(solution), o_(options), id_(++g_reconstructions) {
     const Solution& s = s_;
     link_begin_.assign(s.elements.size() + 1, 0);
     for (const Link& link : s.links) ++link_begin_[link.receiver + 1];
@@ -140,6 +169,30 @@ void LinkReconstruction::forClusterPairs(uint32_t root, F&& f) const {
     };
     visit(root);
     for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent) visit(c | kClusterNode);
+}
+
+const LinkReconstruction::RootPairs& LinkReconstruction::pairsOf(uint32_t root) const {
+    // A few roots a thread: a vertex reads the faces of several roots around it.
+    thread_local std::array<RootPairs, kCachedRoots> cache;
+    thread_local size_t next = 0;
+    for (const RootPairs& entry : cache)
+        if (entry.owner == id_ && entry.root == root) return entry;
+    RootPairs& cached = cache[next];
+    next = (next + 1) % kCachedRoots;
+    cached.owner = id_;
+    cached.root = root;
+    cached.lit.clear();
+    cached.near.clear();
+    const Solution& s = s_;
+    const Element& r = s.elements[root];
+    const double margin = kRootMarginLifts * gather::kLift * s.scene_extent;
+    forClusterPairs(root, [&](uint32_t member, double kernel, const ClusterLink& link) {
+        const Element& m = s.elements[member];
+        if (kernel > 0.0 || canFace(s, m, r, margin))
+            cached.lit.push_back({member, static_cast<uint32_t>(&link - s.cluster_links.data()), kernel});
+        if (glm::length(m.centroid - r.centroid) <= m.radius + r.radius + margin) cached.near.push_back(member);
+    });
+    return cached;
 }
 
 // Gathers what needs no rays into g.sum (or `separable`), and lists in `pending` what does.
@@ -217,16 +270,17 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
     // proof either: a ceiling tile whose ray met the lamp hanging under it still sees the
     // floor past the lamp's edge (dropping them read the tessellated Cornell box's output
     // vertices at 4.2 % RMS, 2.6 % with them, against 2.8 % without clustering).
-    forClusterPairs(root, [&](uint32_t member, double kernel, const ClusterLink& link) {
-        if (!s.rays || link.candidates == kNoList) {
-            if (!(kernel > 0.0)) return;  // faces away
+    for (const RootPair& pair : pairsOf(root).lit) {
+        const double kernel = pair.kernel;
+        if (!s.rays || s.cluster_links[pair.link].candidates == kNoList) {
+            if (!(kernel > 0.0)) continue;  // faces away
             g.use_rays = false;
-            g.visit(member);
+            g.visit(pair.member);
         } else {
-            if (!(kernel > 0.0) && !inFront(s.elements[member])) return;
-            defer(member, kernel > 0.0 ? 1.0 : 0.0);
+            if (!(kernel > 0.0) && !inFront(s.elements[pair.member])) continue;
+            defer(pair.member, kernel > 0.0 ? 1.0 : 0.0);
         }
-    });
+    }
 }
 
 uint32_t LinkReconstruction::leafAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world) const {
@@ -332,10 +386,10 @@ LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, cons
             if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(source.root);
         }
     // And the members of pairwise cluster links (a neighbouring tile of a tessellated wall).
-    forClusterPairs(root, [&](uint32_t member, double, const ClusterLink&) {
+    for (const uint32_t member : pairsOf(root).near) {
         const Element& source = s.elements[member];
         if (glm::length(source.centroid - p_world) <= source.radius + lift) touch(member);
-    });
+    }
     return t;
 }
 

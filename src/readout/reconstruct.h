@@ -141,11 +141,28 @@ private:
     // reaches `root`, in a fixed order; kernel 0: the pair faces away or its ray was blocked.
     template <class F>
     void forClusterPairs(uint32_t root, F&& f) const;
+    // forClusterPairs(root) once per root and thread, kept for every point read on that root
+    // (a chart's texels and a mesh's vertices come root by root): enumerating the pairs was a
+    // quarter of a texel's time in a lit room. In forClusterPairs' order, without what can
+    // matter at no point of the root.
+    struct RootPair {
+        uint32_t member;
+        uint32_t link;  // in Solution::cluster_links
+        double kernel;
+    };
+    struct RootPairs {
+        uint64_t owner = 0;          // id_ of the LinkReconstruction they were built for
+        uint32_t root = 0xffffffffu;
+        std::vector<RootPair> lit;   // kernel > 0, or the member can face a point of the root
+        std::vector<uint32_t> near;  // members (each time they occur) that can come within lift of it
+    };
+    const RootPairs& pairsOf(uint32_t root) const;
     void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
                      DVec3& separable) const;
 
     const Solution& s_;
     ReadoutOptions o_;
+    uint64_t id_;  // unique per object, so a thread's RootPairs never outlive theirs unnoticed
     std::vector<size_t> link_begin_;  // per element + 1: its links in Solution::links
     struct RootKey {
         uint32_t mesh, polygon, root;
