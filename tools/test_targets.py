@@ -235,6 +235,34 @@ class Table(unittest.TestCase):
             targets.MEASUREMENTS.clear()
             targets.MEASUREMENTS.update(saved)
 
+    def test_a_cached_reference_is_reused(self):
+        # The generator's OBJ names its MTL: the check must not see a rename as a new box (it once
+        # did, and deleted an hour's reference).
+        import argparse
+        import subprocess
+        with tempfile.TemporaryDirectory() as tmp:
+            box = os.path.join(tmp, "cache", "box")
+            os.makedirs(box)
+            subprocess.run([sys.executable, os.path.join(HERE, "gen_cornell_tessellated.py"),
+                            os.path.join(box, "box.obj")], stdout=subprocess.DEVNULL, check=True)
+            for name, text in (("vertices.probes", "0 0 0 0 1 0\n"), ("reference.csv", "x\n"),
+                               ("reference.samples", "65536\n")):
+                with open(os.path.join(box, name), "w") as f:
+                    f.write(text)
+            args = argparse.Namespace(build=tmp, scenes=tmp, cache=os.path.join(tmp, "cache"), work=None,
+                                      ref_samples=65536, ref_max_se=0.0, no_reference_build=False)
+            runner = targets.Runner(args)
+
+            def no_run(*a, **k):
+                raise AssertionError("the cached reference was rebuilt")
+            runner.run = no_run
+            runner.python_tool = no_run
+            self.assertEqual(runner.box_reference()[2], os.path.join(box, "reference.csv"))
+            args.ref_max_se = 0.005  # no topped-up reference cached: without building, none
+            args.no_reference_build = True
+            self.assertIsNone(runner.box_reference()[2])
+            self.assertTrue(os.path.isfile(os.path.join(box, "reference.csv")))
+
     def test_list(self):
         out = io.StringIO()
         with redirect_stdout(out):
