@@ -628,52 +628,58 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
         pending_light += p.light;
     }
     const double total = maxChannel(estimate);
-    std::vector<uint32_t> order(pending.size());
-    for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-        return pending[a].light != pending[b].light ? pending[a].light > pending[b].light : a < b;
-    });
-    for (const uint32_t k : order) {
+    // Sources by decreasing unoccluded light (ties by index) from a heap, while rays are worth
+    // casting; once they are not, they never are again (what is pending only falls, what is
+    // found only grows), and every source left keeps its fallback, summed in index order.
+    const auto lighter = [&](uint32_t a, uint32_t b) {
+        return pending[a].light != pending[b].light ? pending[a].light < pending[b].light : a > b;
+    };
+    std::vector<uint32_t> heap(pending.size());
+    for (uint32_t k = 0; k < heap.size(); ++k) heap[k] = k;
+    std::make_heap(heap.begin(), heap.end(), lighter);
+    std::vector<char> read(pending.size(), 0);
+    for (auto end = heap.end(); end != heap.begin() && pending_light > kRayShare * maxChannel(g.sum + separable);) {
+        std::pop_heap(heap.begin(), end, lighter);
+        const uint32_t k = *--end;
+        read[k] = 1;
         const PendingSource& p = pending[k];
-        if (pending_light > kRayShare * maxChannel(g.sum + separable)) {
-            g.use_rays = true;
-            g.coarse_opening = p.partial && p.light > kCoarseShare * total;
-            g.known_form_factor = p.form_factor;
-            // A lamp behind a link whose rays disagreed: its penumbra is the sharpest light
-            // there is. (Behind every link not proven visible, house.wrl's vertices cast 1,176
-            // rays each instead of 357, for shadow.wrl's texels at 1.3 % instead of 2.0 %.)
-            g.coarse_rule_on_emitters = p.partial;
-            // A source whose link found it blocked (a cluster pair's one ray, an element link's
-            // every ray) is first tried with one ray to its centroid: open, it is gathered with
-            // rays; blocked, it stays dark. Most of them are blocked, and gathering each with
-            // its own rays cost house.wrl's vertices 1.5 x (69.5 us instead of 46); the
-            // tessellated Cornell box's vertices keep 2.40 % RMS (p95 3.08 -> 3.35 %, bias
-            // +0.01 -> -0.18 %: a piece whose centre is hidden while some of it shows). Where the
-            // centre is hidden, its corners pulled a quarter of the way in are tried too
-            // (session 9: the box 1.76 -> 1.67 % RMS, p95 2.63 -> 2.17 %, bias -0.45 -> -0.26 %,
-            // as without the pre-test; house.wrl's vertices about 1.15 x, a busy machine).
-            if (!(maxChannel(p.fallback) > 0.0)) {
-                const Element& e = s.elements[p.source];
-                const auto blocked = [&](const DVec3& at) {
-                    if (g.counters) ++g.counters->rays;
-                    return s.rays->segmentBlocked(g.origin, at + g.lift * e.normal);
-                };
-                bool hidden = blocked(e.centroid);
-                const PolygonView poly = polygonOf(s, e);
-                for (size_t c = 0; hidden && c < poly.vertices.size(); ++c)
-                    hidden = blocked(poly.vertices[c] + 0.25 * (e.centroid - poly.vertices[c]));
-                if (hidden) {
-                    pending_light -= p.light;
-                    continue;
-                }
+        g.use_rays = true;
+        g.coarse_opening = p.partial && p.light > kCoarseShare * total;
+        g.known_form_factor = p.form_factor;
+        // A lamp behind a link whose rays disagreed: its penumbra is the sharpest light
+        // there is. (Behind every link not proven visible, house.wrl's vertices cast 1,176
+        // rays each instead of 357, for shadow.wrl's texels at 1.3 % instead of 2.0 %.)
+        g.coarse_rule_on_emitters = p.partial;
+        // A source whose link found it blocked (a cluster pair's one ray, an element link's
+        // every ray) is first tried with one ray to its centroid: open, it is gathered with
+        // rays; blocked, it stays dark. Most of them are blocked, and gathering each with
+        // its own rays cost house.wrl's vertices 1.5 x (69.5 us instead of 46); the
+        // tessellated Cornell box's vertices keep 2.40 % RMS (p95 3.08 -> 3.35 %, bias
+        // +0.01 -> -0.18 %: a piece whose centre is hidden while some of it shows). Where the
+        // centre is hidden, its corners pulled a quarter of the way in are tried too
+        // (session 9: the box 1.76 -> 1.67 % RMS, p95 2.63 -> 2.17 %, bias -0.45 -> -0.26 %,
+        // as without the pre-test; house.wrl's vertices about 1.15 x, a busy machine).
+        if (!(maxChannel(p.fallback) > 0.0)) {
+            const Element& e = s.elements[p.source];
+            const auto blocked = [&](const DVec3& at) {
+                if (g.counters) ++g.counters->rays;
+                return s.rays->segmentBlocked(g.origin, at + g.lift * e.normal);
+            };
+            bool hidden = blocked(e.centroid);
+            const PolygonView poly = polygonOf(s, e);
+            for (size_t c = 0; hidden && c < poly.vertices.size(); ++c)
+                hidden = blocked(poly.vertices[c] + 0.25 * (e.centroid - poly.vertices[c]));
+            if (hidden) {
+                pending_light -= p.light;
+                continue;
             }
-            g.visit(p.source);
-            g.coarse_opening = false;
-        } else {
-            g.sum += p.fallback;
         }
+        g.visit(p.source);
+        g.coarse_opening = false;
         pending_light -= p.light;
     }
+    for (size_t k = 0; k < pending.size(); ++k)
+        if (!read[k]) g.sum += pending[k].fallback;
     const DVec3 h = g.sum + separable;
     if (!edges || touched.count < 2) return h;
     // The point's face and the faces beside it corrected together, as the vertex bake corrects
