@@ -36,7 +36,9 @@ std::string whyNotReplaceable(const std::string& path) {
     return S_ISREG(status.st_mode) ? std::string() : notRegular(status.st_mode) + ", and only a regular file is replaced";
 }
 
-InputFile openRegularFile(const std::string& path, std::string& why) {
+std::string largerThan(size_t max_bytes) { return "larger than " + std::to_string(max_bytes) + " bytes"; }
+
+InputFile openRegularFile(const std::string& path, std::string& why, size_t max_bytes) {
     // Checked before opening too: opening a device can itself act (a tape rewinds).
     why = whyNotRegularFile(path);
     if (!why.empty()) return nullptr;
@@ -48,6 +50,7 @@ InputFile openRegularFile(const std::string& path, std::string& why) {
     struct stat status {};
     if (::fstat(fd, &status) != 0) why = errnoReason(errno);
     else if (!S_ISREG(status.st_mode)) why = notRegular(status.st_mode);
+    else if (static_cast<uint64_t>(status.st_size) > max_bytes) why = largerThan(max_bytes);
     if (!why.empty()) {
         ::close(fd);
         return nullptr;
@@ -61,13 +64,19 @@ InputFile openRegularFile(const std::string& path, std::string& why) {
     return InputFile(file);
 }
 
-std::optional<std::string> readRegularFile(const std::string& path, std::string& why) {
-    const InputFile file = openRegularFile(path, why);
+std::optional<std::string> readRegularFile(const std::string& path, std::string& why, size_t max_bytes) {
+    const InputFile file = openRegularFile(path, why, max_bytes);
     if (!file) return std::nullopt;
     std::string bytes;
     char block[1 << 16];
     size_t got = 0;
-    while ((got = std::fread(block, 1, sizeof block, file.get())) > 0) bytes.append(block, got);
+    while ((got = std::fread(block, 1, sizeof block, file.get())) > 0) {
+        if (got > max_bytes - bytes.size()) {
+            why = largerThan(max_bytes);
+            return std::nullopt;
+        }
+        bytes.append(block, got);
+    }
     if (std::ferror(file.get())) {
         why = errnoReason(errno);
         return std::nullopt;

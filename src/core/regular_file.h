@@ -3,6 +3,7 @@
 // read() forever, a device such as /dev/zero never ends, a directory reads as nothing: each
 // is refused by name before a byte is read, so a hostile scene cannot hang a bake, and an
 // output path naming one is never replaced.
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -27,9 +28,14 @@ std::string whyNotReplaceable(const std::string& path);
 // `path` opened for binary reading when it is a regular file, checked again on the open
 // descriptor (a file swapped in between is refused too); null with `why` set otherwise.
 // Never blocks: a FIFO is never opened, or opened without waiting for a writer and refused.
-InputFile openRegularFile(const std::string& path, std::string& why);
+// A file larger than `max_bytes` is refused too ("larger than N bytes").
+InputFile openRegularFile(const std::string& path, std::string& why, size_t max_bytes = SIZE_MAX);
 
-// The whole regular file; nullopt with `why` set when it is not one or cannot be read.
-std::optional<std::string> readRegularFile(const std::string& path, std::string& why);
+// The whole regular file; nullopt with `why` set when it is not one, cannot be read, or holds
+// more than `max_bytes` (checked before reading and while reading, for a file that grows).
+std::optional<std::string> readRegularFile(const std::string& path, std::string& why, size_t max_bytes = SIZE_MAX);
+
+// "larger than N bytes": the reason a capped read gives.
+std::string largerThan(size_t max_bytes);
 
 }  // namespace radbake
