@@ -225,9 +225,11 @@ void addBakeCommand(CLI::App& app, int& result) {
         ->check(nonEmptyPath());
     cmd->add_option("--depfile", args->depfile,
                     "Also write a Make-syntax depfile (for Ninja's depfile =, make's include): every output, "
-                    "then every file the bake read (the scene, Inline'd and EXTERNPROTO files, MTL files, probes)")
+                    "then every file the bake read or looked for (the scene, Inline'd and EXTERNPROTO files, MTL files, "
+                    "textures, probes)")
         ->check(nonEmptyPath());
     addSceneScaleOptions(*cmd, args->import);
+    addReadRootOption(*cmd, args->import);
 
     args->error_threshold_option =
         cmd->add_option("--error-threshold", args->error_threshold,

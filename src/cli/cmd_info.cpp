@@ -53,6 +53,7 @@ int runInfo(const InfoArgs& args) {
         info["lights"] = s.lights;
         info["cameras"] = scene->cameras.size();
         info["input_files"] = scene->input_files;
+        if (!scene->refused_inputs.empty()) info["refused_inputs"] = scene->refused_inputs;
         info["warnings"] = diagnostics.warningCount();
         // One line; a file name in another encoding becomes U+FFFD, never an exception.
         std::printf("%s\n", info.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
@@ -74,6 +75,9 @@ int runInfo(const InfoArgs& args) {
         std::printf("emitters   %zu polygons\n", s.emitters);
         std::printf("lights     %zu\n", s.lights);
         std::printf("cameras    %zu\n", scene->cameras.size());
+        if (!scene->refused_inputs.empty())
+            std::printf("refused    %zu files (outside the read roots, or not regular files)\n",
+                        scene->refused_inputs.size());
         std::printf("warnings   %d\n", diagnostics.warningCount());
     }
     return kExitOk;
@@ -87,6 +91,7 @@ void addInfoCommand(CLI::App& app, int& result) {
     cmd->add_option("scene", args->scene, "Scene file (VRML97, VRML 1.0, or any format Assimp reads)")->required();
     cmd->add_flag("--json", args->json, "Print a JSON object on stdout");
     addSceneScaleOptions(*cmd, args->import);
+    addReadRootOption(*cmd, args->import);
     cmd->add_flag("--strict", args->import.strict, "Unknown VRML nodes and fields are errors");
     cmd->callback([args, &result] { result = runInfo(*args); });
 }

@@ -87,6 +87,17 @@ void addSceneScaleOptions(CLI::App& command, ImportOptions& import) {
         ->capture_default_str();
 }
 
+void addReadRootOption(CLI::App& command, ImportOptions& import) {
+    command
+        .add_option("--read-root", import.read_roots,
+                    "Also let the scene read files (Inline, EXTERNPROTO, textures, MTL, glTF buffers) under this "
+                    "folder; by default only under the scene file's own folder; repeatable")
+        ->check(nonEmptyPath())
+        ->check(CLI::ExistingDirectory)
+        ->allow_extra_args(false)
+        ->type_name("DIR");
+}
+
 CLI::Validator nonEmptyPath() {
     return CLI::Validator([](std::string& text) { return text.empty() ? std::string("an empty path is not a file") : ""; },
                           "");

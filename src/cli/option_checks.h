@@ -28,4 +28,7 @@ CLI::Validator nonEmptyPath();
 // --unit-scale and --emission-scale, as `bake` and `info` both read a scene.
 void addSceneScaleOptions(CLI::App& command, ImportOptions& import);
 
+// --read-root DIR (repeatable): a folder the scene may read files under besides its own.
+void addReadRootOption(CLI::App& command, ImportOptions& import);
+
 }  // namespace radbake::cli

@@ -88,6 +88,7 @@ std::string formatStatsJson(const BakeReport& r) {
         out["texel_tolerance"] = l.texel_tolerance;
         out["occupancy"] = l.occupancy;
     }
+    if (r.refused_inputs > 0) out["refused_inputs"] = r.refused_inputs;  // only then, as two_sided_meshes
     out["warnings"] = r.warnings;
     return json_detail::dump(out, 2) + "\n";
 }

@@ -44,6 +44,8 @@ struct BakeReport {
     // Vertices split at hard edges at import (Scene::crease_split): the shared ones, and the
     // copies added (counted in `vertices`).
     size_t hard_edge_vertices = 0, hard_edge_copies = 0;
+    // Files the scene named that the read policy refused (Scene::refused_inputs), each warned.
+    size_t refused_inputs = 0;
     int warnings = 0;
     LightmapReport lightmaps;
 };

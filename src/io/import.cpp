@@ -65,11 +65,16 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
     scene.name = std::filesystem::path(stem).stem().string();
     if (scene.name.empty()) scene.name = "scene";
 
+    const ReadPolicy policy = readPolicyFor(path, options.read_roots, options.max_input_bytes);
     std::vector<std::string> files_read;
     const bool ok = looksLikeVrml(firstBytes(path, 16))
-                        ? readVrml(path, VrmlOptions{.strict = options.strict, .files_read = &files_read}, scene,
-                                   diagnostics)
-                        : readWithAssimp(path, scene, diagnostics, &files_read);
+                        ? readVrml(path,
+                                   VrmlOptions{.strict = options.strict, .files_read = &files_read, .policy = &policy,
+                                               .files_refused = &scene.refused_inputs},
+                                   scene, diagnostics)
+                        : readWithAssimp(path, scene, diagnostics,
+                                         AssimpReads{.policy = &policy, .files_read = &files_read,
+                                                     .files_refused = &scene.refused_inputs});
     if (!ok || diagnostics.hasErrors()) return std::nullopt;
     // The scene file first, then each other file once, in the order first read.
     files_read.insert(files_read.begin(), path);
@@ -81,7 +86,10 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
     applyScales(scene, options);
     // After the emission scale (a textured emission is the scaled colour times the texture),
     // before validation (which clamps textured reflectance as it does the materials').
-    applyTextures(scene, diagnostics);
+    applyTextures(scene, policy, diagnostics);
+    std::sort(scene.refused_inputs.begin(), scene.refused_inputs.end());
+    scene.refused_inputs.erase(std::unique(scene.refused_inputs.begin(), scene.refused_inputs.end()),
+                               scene.refused_inputs.end());
     if (!validateScene(scene, diagnostics)) return std::nullopt;
     // After validation (no degenerate triangles left to misjudge an edge), before the solve:
     // every later stage sees each face's corners as its own.

@@ -2,7 +2,9 @@
 // The import stage: any supported scene file -> one validated Scene.
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "core/read_policy.h"
 #include "scene/scene.h"
 
 namespace radbake {
@@ -11,11 +13,16 @@ struct ImportOptions {
     float unit_scale = 1.0f;      // scene units -> metres
     float emission_scale = 1.0f;  // multiplies every emitted radiance
     bool strict = false;          // unknown nodes and fields are errors, not warnings
+    // Folders the scene may read files under besides its own (--read-root): an Inline, a
+    // texture, an MTL or a glTF buffer anywhere else is refused with a warning, as missing.
+    std::vector<std::string> read_roots;
+    size_t max_input_bytes = kDefaultMaxInputBytes;  // each file read, each gzip stream inflated
 };
 
 // Reads VRML97 / VRML 1.0 with our own reader (also gzipped) and everything else through
 // Assimp, then validates and splits vertices at hard edges (scene/creases.h; counted in
-// Scene::crease_split). Returns nullopt after reporting at least one located error.
+// Scene::crease_split). Files the scene names are read under core/read_policy.h's policy
+// (Scene::refused_inputs). Returns nullopt after reporting at least one located error.
 std::optional<Scene> importScene(const std::string& path, const ImportOptions& options,
                                  Diagnostics& diagnostics);
 

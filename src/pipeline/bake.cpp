@@ -89,6 +89,7 @@ void fillSceneReport(const Scene& scene, Bake& out) {
     }
     report.hard_edge_vertices = scene.crease_split.vertices;
     report.hard_edge_copies = scene.crease_split.added;
+    report.refused_inputs = scene.refused_inputs.size();
     report.probes = out.options.probes ? out.options.probes->size() : 0;
 }
 

@@ -131,7 +131,11 @@ struct Scene {
     std::vector<Camera> cameras;
     // Every file the import read, the scene file first, each once (Inline'd and EXTERNPROTO
     // files, MTL files, ...): what a depfile names and what provenance hashes.
+    // A file the import looked for and did not find is an input too: adding it rebuilds.
     std::vector<std::string> input_files;
+    // Files the scene named and the read policy refused (core/read_policy.h), each once, as
+    // named: outside the read roots, or not a regular file. None of them was read.
+    std::vector<std::string> refused_inputs;
     CreaseSplitCounts crease_split;
     // Back twins' polygons covered by a surface in contact (scene/two_sided.h).
     size_t covered_back_polygons = 0;

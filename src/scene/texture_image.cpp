@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "core/read_policy.h"
 #include "core/regular_file.h"
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -20,7 +21,7 @@ namespace {
 class ImageSource {
 public:
     ImageSource(const TextureRef& texture, std::string& why) : texture_(texture) {
-        if (!texture.embedded) file_ = openRegularFile(texture.path, why);
+        if (!texture.embedded) file_ = openRegularFile(texture.path, why, kDefaultMaxInputBytes);
     }
     bool opened() const { return texture_.embedded || file_; }
 
@@ -61,6 +62,15 @@ private:
 
 std::string failure(const char* fallback) { return stbi_failure_reason() ? stbi_failure_reason() : fallback; }
 
+// The decompression cap: a small file may declare a huge image, refused before it is decoded.
+bool decodedFits(int width, int height, int channels, size_t bytes_per_value, std::string& error) {
+    const double bytes = static_cast<double>(width) * height * channels * static_cast<double>(bytes_per_value);
+    if (bytes <= static_cast<double>(kDefaultMaxInputBytes)) return true;
+    error = "a " + std::to_string(width) + " x " + std::to_string(height) + " image decodes to " +
+            largerThan(kDefaultMaxInputBytes);
+    return false;
+}
+
 }  // namespace
 
 float srgbToLinear(float encoded) {
@@ -92,6 +102,7 @@ std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srg
         error = failure("unknown image format");
         return std::nullopt;
     }
+    if (!decodedFits(image.width, image.height, std::max(channels, 1), sizeof(float), error)) return std::nullopt;
     image.channels = channels;
     const size_t count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * static_cast<size_t>(channels);
     const bool alpha = channels == 2 || channels == 4;
@@ -143,6 +154,11 @@ bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vec
     const ImageSource source(texture, error);
     if (!source.opened()) return false;
     int channels = 0;
+    if (!source.info(&width, &height, &channels)) {
+        error = failure("unknown image format");
+        return false;
+    }
+    if (!decodedFits(width, height, 4, 1, error)) return false;
     std::unique_ptr<stbi_uc, void (*)(void*)> data(source.load8(&width, &height, &channels, 4), stbi_image_free);
     if (!data) {
         error = failure("cannot decode");

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "core/read_policy.h"
 #include "core/regular_file.h"
 #include "scene/texture_image.h"
 
@@ -141,9 +142,34 @@ void noteInput(Scene& scene, const std::string& path) {
         scene.input_files.push_back(normal);
 }
 
+// Every texture file the read policy refuses: one warning naming it, noted refused, and
+// dropped from every material that names it, so it is neither read nor embedded in the glb.
+// One in the read roots (a FIFO, a directory) stays an input: replacing it with an image rebuilds.
+void refuseTextures(Scene& scene, const ReadPolicy& policy, Diagnostics& diagnostics) {
+    std::map<std::string, bool> checked;  // path -> refused
+    for (Material& material : scene.materials) {
+        for (TextureRef* ref : {&material.base_color_texture, &material.emissive_texture, &material.normal_texture}) {
+            if (ref->empty() || ref->embedded) continue;
+            auto [it, first] = checked.try_emplace(ref->path, false);
+            if (first) {
+                const std::string why = policy.whyRefused(ref->path);
+                if (why.empty()) continue;
+                it->second = true;
+                const bool colour = ref != &material.normal_texture;
+                diagnostics.warning(ref->location, "cannot read texture '" + ref->path + "' (" + why + "); " +
+                                                       (colour ? "the material's own colour is used" : "not written"));
+                if (policy.whyOutside(ref->path).empty()) noteInput(scene, ref->path);
+                scene.refused_inputs.push_back(ref->path);
+            }
+            if (it->second) *ref = TextureRef{};
+        }
+    }
+}
+
 }  // namespace
 
-void applyTextures(Scene& scene, Diagnostics& diagnostics) {
+void applyTextures(Scene& scene, const ReadPolicy& policy, Diagnostics& diagnostics) {
+    refuseTextures(scene, policy, diagnostics);
     // Every texture once, in the order materials name them.
     std::vector<std::pair<std::string, Role>> images;
     std::map<std::string, TextureRef> first_named;

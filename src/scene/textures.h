@@ -2,6 +2,7 @@
 // Material textures -> per-polygon reflectance and emission (DESIGN.md section 2: the solve
 // is per polygon, so a texture is averaged over the part of it each polygon's UVs cover).
 #include "core/diagnostics.h"
+#include "core/read_policy.h"
 #include "scene/scene.h"
 
 namespace radbake {
@@ -15,7 +16,9 @@ namespace radbake {
 // Every texture named (base colour, emissive, normal map) is appended to Scene::input_files,
 // found or not. One located warning per texture that cannot be read (the material's colour
 // is used) and one per material whose texture has alpha cutouts (baked as opaque).
+// A texture file `policy` refuses (outside the read roots, not a regular file) is one located
+// warning naming it, noted in Scene::refused_inputs and dropped from its materials, unread.
 // importScene calls it before validation, which clamps the values.
-void applyTextures(Scene& scene, Diagnostics& diagnostics);
+void applyTextures(Scene& scene, const ReadPolicy& policy, Diagnostics& diagnostics);
 
 }  // namespace radbake

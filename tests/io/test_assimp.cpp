@@ -539,7 +539,9 @@ TEST_CASE("fuzz: an OBJ whose mtllib resolves to a folder reads as a missing MTL
     REQUIRE(tri_scene->meshes.size() == 1);
     CHECK(totalArea(*tri_scene) == doctest::Approx(0.5));
     CHECK(hasMessage(tri_diagnostics, Severity::Warning, "materials.mtl"));
-    for (const std::string& file : tri_scene->input_files) CHECK(std::filesystem::is_regular_file(file));
+    // Refused by name, never read; still an input (a file put in its place rebuilds).
+    REQUIRE(tri_scene->refused_inputs.size() == 1);
+    CHECK(std::filesystem::path(tri_scene->refused_inputs.front()).filename() == "materials.mtl");
 }
 
 TEST_CASE("fuzz: a PLY header without end_header is a located error before Assimp reads it") {

@@ -430,24 +430,58 @@ public:
     RegularFileStream(std::FILE* file, const std::string& name) : Assimp::DefaultIOStream(file, name) {}
 };
 
-// Assimp's own file access, noting every file it opens (the scene, its MTL, ...). It reads;
-// a file is opened only when it is regular, checked on the open file itself.
+// Assimp's own file access under the read policy, noting every file it opens (the scene, its
+// MTL, ...) and every one it asks for and does not find. It reads; a file is opened only when
+// the policy allows it and it is regular, checked on the open file itself.
 class RecordingIOSystem final : public Assimp::DefaultIOSystem {
 public:
-    explicit RecordingIOSystem(std::vector<std::string>* files) : files_(files) {}
-    bool Exists(const char* file) const override { return isRegularFile(file); }
+    RecordingIOSystem(const std::string& model, const AssimpReads& reads, Diagnostics& diagnostics)
+        : model_(model), reads_(reads), diagnostics_(diagnostics) {}
+    bool Exists(const char* file) const override { return isRegularFile(file) && allowed(file); }
     Assimp::IOStream* Open(const char* file, const char* mode) override {
         if (file == nullptr || mode == nullptr || std::string_view(mode).find_first_of("wa+") != std::string_view::npos)
             return nullptr;
+        if (!allowed(file)) return nullptr;
         std::string why;
-        InputFile opened = openRegularFile(file, why);
-        if (!opened) return nullptr;
-        if (files_) files_->emplace_back(file);
+        InputFile opened = openRegularFile(file, why, reads_.policy->max_bytes);
+        if (!opened) {
+            // In the read roots, missing or not: adding it, or replacing what is there, rebuilds.
+            note(reads_.files_read, file);
+            std::error_code ec;
+            if (std::filesystem::exists(file, ec)) {
+                note(reads_.files_refused, file);  // not a regular file, or too large
+                warnOnce(file, why);
+            }
+            return nullptr;
+        }
+        note(reads_.files_read, file);
         return new RegularFileStream(opened.release(), file);
     }
 
 private:
-    std::vector<std::string>* files_;
+    // The model file itself always (it may be a link to elsewhere); anything else as the
+    // policy says, warned once per path.
+    bool allowed(const char* file) const {
+        if (model_ == file) return true;
+        const std::string why = reads_.policy->whyOutside(file);
+        if (why.empty()) return true;
+        note(reads_.files_refused, file);
+        warnOnce(file, why);
+        return false;
+    }
+    void warnOnce(const std::string& file, const std::string& why) const {
+        if (std::find(warned_.begin(), warned_.end(), file) != warned_.end()) return;
+        warned_.push_back(file);
+        diagnostics_.warning({model_, 0, 0}, "'" + file + "' not read: " + why + "; read as missing");
+    }
+    static void note(std::vector<std::string>* list, const std::string& file) {
+        if (list) list->push_back(file);
+    }
+
+    std::string model_;
+    AssimpReads reads_;
+    Diagnostics& diagnostics_;
+    mutable std::vector<std::string> warned_;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -514,11 +548,11 @@ bool checkPlyHeader(const std::string& path, Diagnostics& diagnostics) {
     return false;
 }
 
-bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, std::vector<std::string>* files_read) {
+bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& reads) {
     if (!checkPlyHeader(path, diagnostics)) return false;
     ScopedLogger logger(path, diagnostics);
     Assimp::Importer importer;
-    importer.SetIOHandler(new RecordingIOSystem(files_read));  // the importer owns it
+    importer.SetIOHandler(new RecordingIOSystem(path, reads, diagnostics));  // the importer owns it
     // Bone-only files would otherwise gain made-up skeleton meshes.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     // No Triangulate and no GenNormals: they would hide source polygons and input problems.
@@ -540,12 +574,17 @@ bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostic
 
 }  // namespace
 
-bool readWithAssimp(const std::string& path, Scene& scene, Diagnostics& diagnostics,
-                    std::vector<std::string>* files_read) {
+bool readWithAssimp(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& given) {
     // The module boundary: neither Assimp's exceptions nor ours (bad_alloc) get out.
     try {
+        AssimpReads reads = given;
+        ReadPolicy model_folder;
+        if (!reads.policy) {
+            model_folder = readPolicyFor(path, {});
+            reads.policy = &model_folder;
+        }
         std::lock_guard<std::mutex> lock(kImportMutex);
-        return importLocked(path, scene, diagnostics, files_read);
+        return importLocked(path, scene, diagnostics, reads);
     } catch (const std::exception& e) {
         diagnostics.error({path, 0, 0}, std::string("cannot read scene with Assimp: ") + e.what());
     } catch (...) {

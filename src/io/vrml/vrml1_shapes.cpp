@@ -457,8 +457,10 @@ bool Vrml1Parser::parseInline(const Token& type, Vrml1State& state, int depth) {
     }
     // As the VRML97 reader does: a missing file is skipped with a warning (an error with
     // --strict), and the recursion guard compares canonical paths.
+    if (!mayRead(*resolved, loc(type), "WWWInline", options_, diagnostics_)) return true;
     std::error_code ec;
     if (!std::filesystem::is_regular_file(*resolved, ec)) {
+        noteMissing(*resolved, options_);
         const std::string message = "WWWInline file '" + *resolved + "' not found; skipped";
         if (options_.strict) diagnostics_.error(loc(type), message);
         else warn(type, message);

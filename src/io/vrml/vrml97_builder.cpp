@@ -374,11 +374,17 @@ void Vrml97Builder::viewpoint(const Node& node, const DMat4& m) {
 void Vrml97Builder::inlineNode(const Node& node, const DMat4& m) {
     const auto& urls = mfStrings(node, "url");
     std::string missing;
+    bool refused = false;
     for (const std::string& url : urls) {
         const std::optional<std::string> resolved = resolveUrl(path_, url);
         if (!resolved) continue;
+        if (!mayRead(*resolved, node.location, "Inline", options_, diagnostics_)) {
+            refused = true;  // warned, as missing: the next url may do
+            continue;
+        }
         std::error_code ec;
         if (!std::filesystem::is_regular_file(*resolved, ec)) {
+            noteMissing(*resolved, options_);
             if (missing.empty()) missing = *resolved;
             continue;
         }
@@ -401,6 +407,7 @@ void Vrml97Builder::inlineNode(const Node& node, const DMat4& m) {
         transformAppended(scene_, meshes, lights, cameras, m);
         return;
     }
+    if (refused && missing.empty()) return;
     const std::string message = urls.empty() ? "Inline without a url ignored"
                                 : missing.empty()
                                     ? "Inline has no local url ('" + urls.front() + "'); skipped"

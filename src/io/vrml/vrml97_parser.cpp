@@ -491,6 +491,7 @@ void Vrml97Parser::parseExternProto(Scope& scope) {
 
 void Vrml97Parser::resolveExternProto(ProtoDef& proto, const std::vector<std::string>& urls, const Token& at) {
     proto.unresolved = true;
+    bool refused = false;
     for (const std::string& url : urls) {
         const size_t hash = url.find('#');
         const std::string file = url.substr(0, hash);
@@ -499,8 +500,15 @@ void Vrml97Parser::resolveExternProto(ProtoDef& proto, const std::vector<std::st
         if (file.empty()) continue;  // "#Name" names a PROTO of this file, which would be a PROTO
         const std::optional<std::string> resolved = resolveUrl(path_, file);
         if (!resolved) continue;
+        if (!mayRead(*resolved, loc(at), "EXTERNPROTO " + proto.name, options_, diagnostics_)) {
+            refused = true;  // warned, as missing: the next url may do
+            continue;
+        }
         std::error_code ec;
-        if (!std::filesystem::is_regular_file(*resolved, ec)) continue;
+        if (!std::filesystem::is_regular_file(*resolved, ec)) {
+            noteMissing(*resolved, options_);
+            continue;
+        }
         const std::string key = std::filesystem::weakly_canonical(*resolved, ec).string();
         if (std::find(file_stack_.begin(), file_stack_.end(), key) != file_stack_.end() ||
             static_cast<int>(file_stack_.size()) >= vrml97Limits().max_file_depth) {
@@ -532,6 +540,7 @@ void Vrml97Parser::resolveExternProto(ProtoDef& proto, const std::vector<std::st
         proto.unresolved = false;
         return;
     }
+    if (refused) return;
     diagnostics_.warning(loc(at), "EXTERNPROTO " + proto.name + " is not a local file; its instances are skipped");
 }
 

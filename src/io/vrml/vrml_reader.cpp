@@ -22,11 +22,9 @@ bool isGzip(std::string_view bytes) {
            static_cast<unsigned char>(bytes[1]) == 0x8b;
 }
 
-// Decompressed text is capped so a small bomb cannot exhaust memory.
-constexpr size_t kMaxTextBytes = size_t(4) << 30;
-
-// Gunzips every member of a gzip stream; false with a reason on corrupt or oversized data.
-bool gunzip(std::string_view bytes, std::string& out, std::string& reason) {
+// Gunzips every member of a gzip stream; false with a reason on corrupt data, or on more than
+// `max_bytes` of text (a small bomb must not exhaust memory).
+bool gunzip(std::string_view bytes, size_t max_bytes, std::string& out, std::string& reason) {
     z_stream z{};
     if (inflateInit2(&z, 15 + 32) != Z_OK) {
         reason = "cannot initialise zlib";
@@ -47,8 +45,8 @@ bool gunzip(std::string_view bytes, std::string& out, std::string& reason) {
         z.avail_out = static_cast<uInt>(chunk.size());
         status = inflate(&z, Z_NO_FLUSH);
         out.append(chunk.data(), chunk.size() - z.avail_out);
-        if (out.size() > kMaxTextBytes) {
-            reason = "decompressed data larger than 4 GiB";
+        if (out.size() > max_bytes) {
+            reason = "decompressed data " + largerThan(max_bytes);
             break;
         }
         if (status == Z_STREAM_END) {
@@ -157,7 +155,13 @@ void finishLightScopes(Scene& scene, size_t first_light, Diagnostics& diagnostic
 
 }  // namespace
 
-bool readVrml(const std::string& path, const VrmlOptions& options, Scene& scene, Diagnostics& diagnostics) {
+bool readVrml(const std::string& path, const VrmlOptions& given, Scene& scene, Diagnostics& diagnostics) {
+    VrmlOptions options = given;
+    ReadPolicy scene_folder;
+    if (!options.policy) {
+        scene_folder = readPolicyFor(path, {});
+        options.policy = &scene_folder;
+    }
     try {
         const std::optional<std::string> text = vrml::loadText(path, {path, 0, 0}, options, diagnostics);
         if (!text) return false;
@@ -180,8 +184,9 @@ namespace vrml {
 std::optional<std::string> loadText(const std::string& path, const SourceLocation& from, const VrmlOptions& options,
                                     Diagnostics& diagnostics) {
     // Only a regular file: an Inline naming a FIFO must not block the import.
+    const size_t max_bytes = options.policy ? options.policy->max_bytes : kDefaultMaxInputBytes;
     std::string why;
-    std::optional<std::string> read = readRegularFile(path, why);
+    std::optional<std::string> read = readRegularFile(path, why, max_bytes);
     if (!read) {
         diagnostics.error(from, "cannot read '" + path + "': " + why);
         return std::nullopt;
@@ -189,11 +194,27 @@ std::optional<std::string> loadText(const std::string& path, const SourceLocatio
     if (options.files_read) options.files_read->push_back(path);
     if (!isGzip(*read)) return read;
     std::string text, reason;
-    if (!gunzip(*read, text, reason)) {
+    if (!gunzip(*read, max_bytes, text, reason)) {
         diagnostics.error(from, "'" + path + "': " + reason);
         return std::nullopt;
     }
     return text;
+}
+
+bool mayRead(const std::string& path, const SourceLocation& from, const std::string& what, const VrmlOptions& options,
+             Diagnostics& diagnostics) {
+    if (!options.policy) return true;
+    const std::string why = options.policy->whyRefused(path);
+    if (why.empty()) return true;
+    // Not a regular file, but in the tree: replacing it with one is an edit that rebuilds.
+    if (options.policy->whyOutside(path).empty()) noteMissing(path, options);
+    if (options.files_refused) options.files_refused->push_back(path);
+    diagnostics.warning(from, what + " '" + path + "' refused: " + why + "; skipped");
+    return false;
+}
+
+void noteMissing(const std::string& path, const VrmlOptions& options) {
+    if (options.files_read) options.files_read->push_back(path);
 }
 
 std::optional<std::string> resolveUrl(const std::string& base_file, const std::string& url_in) {
@@ -249,11 +270,17 @@ bool readText(std::string_view text, const std::string& path, const VrmlOptions&
         diagnostics.error({path, 0, 0}, std::string("internal error while reading the scene: ") + e.what());
         return false;
     }
-    std::string first_line(head.substr(0, std::min<size_t>(head.find_first_of("\r\n"), 40)));
-    for (char& c : first_line)
-        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
-    diagnostics.error({path, 1, 1}, "not a VRML file: the first line must start with \"#VRML V2.0\" or \"#VRML V1.0\" (found \"" +
-                                        first_line + "\")");
+    // The header is quoted only when it is a VRML or X3D one (an unsupported version): any
+    // other file's first line may be something secret an Inline pointed at.
+    std::string found = "no VRML header";
+    if (head.starts_with("#VRML") || head.starts_with("#X3D")) {
+        std::string first_line(head.substr(0, std::min<size_t>(head.find_first_of("\r\n"), 40)));
+        for (char& c : first_line)
+            if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+        found = "found \"" + first_line + "\"";
+    }
+    diagnostics.error({path, 1, 1}, "not a VRML file: the first line must start with \"#VRML V2.0\" or \"#VRML V1.0\" (" +
+                                        found + ")");
     return false;
 }
 

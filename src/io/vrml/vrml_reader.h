@@ -5,14 +5,21 @@
 #include <string_view>
 #include <vector>
 
+#include "core/read_policy.h"
 #include "scene/scene.h"
 
 namespace radbake {
 
 struct VrmlOptions {
     bool strict = false;  // unknown nodes and fields are errors
-    // When set, the path of every file loaded (loadText) is appended: the scene's inputs.
+    // When set, the path of every file loaded (loadText) or looked for and missing is
+    // appended: the scene's inputs.
     std::vector<std::string>* files_read = nullptr;
+    // What the scene may read (Inline, EXTERNPROTO; textures are checked by applyTextures);
+    // null: readVrml confines reads to the scene file's folder.
+    const ReadPolicy* policy = nullptr;
+    // When set, every path the policy refused is appended.
+    std::vector<std::string>* files_refused = nullptr;
 };
 
 // True when the bytes begin like a VRML file ("#VRML") or a gzip stream.
@@ -34,6 +41,15 @@ bool isVrml97Text(std::string_view text);
 // path is appended to options.files_read when it is set.
 std::optional<std::string> loadText(const std::string& path, const SourceLocation& from, const VrmlOptions& options,
                                     Diagnostics& diagnostics);
+
+// True when the scene may read `path` under options.policy, or the file is missing (the
+// caller reports that). Otherwise one located warning at `from` naming the path and why
+// ("Inline 'x' refused: ..."), never anything the file holds; the path is noted refused.
+bool mayRead(const std::string& path, const SourceLocation& from, const std::string& what, const VrmlOptions& options,
+             Diagnostics& diagnostics);
+
+// Notes a file looked for and not found as an input (options.files_read), so adding it rebuilds.
+void noteMissing(const std::string& path, const VrmlOptions& options);
 
 // Resolves a relative URL against the directory of `base_file`; falls back to a
 // case-insensitive match of each path component when the exact name does not exist.
