@@ -53,6 +53,9 @@ done
 work="${work:-$build/scale_scenes}"
 mkdir -p "$work"
 shared="$repo/../shared/scenes"
+# The shared collection is one tree whose scenes may reach beside their folders (../textures/...).
+read_root=()
+[ -d "$shared" ] && read_root=(--read-root "$shared")
 
 # name -> file; generated scenes are made on first use.
 declare -A building_args=(
@@ -99,13 +102,13 @@ for name in "${names[@]}"; do
     add_row "$name|-|-|-|-|-|missing ($file)"
     continue
   fi
-  triangles=$("$radbake" info "$file" --json 2>/dev/null | python3 -c 'import json, sys; print(json.load(sys.stdin)["triangles"])' 2>/dev/null || echo "?")
+  triangles=$("$radbake" info "$file" --json "${read_root[@]}" 2>/dev/null | python3 -c 'import json, sys; print(json.load(sys.stdin)["triangles"])' 2>/dev/null || echo "?")
   log="$work/$name.bench.log"
   set +e
   # GNU time reports the peak RSS even of a run that the timeout or the cap stops.
   /usr/bin/time -f "%e %M" -o "$work/$name.time" \
     timeout -k 10 "$timeout_s" prlimit --as=$((mem_kb * 1024)) \
-    "$bench" "$file" --modes "$mode" --threads "$threads" --runs "$runs" --quality "$quality" > "$log" 2> "$log.err"
+    "$bench" "$file" --modes "$mode" --threads "$threads" --runs "$runs" --quality "$quality" "${read_root[@]}" > "$log" 2> "$log.err"
   rc=$?
   set -e
   peak_kb=$(grep -Eo '^[0-9.]+ [0-9]+$' "$work/$name.time" | tail -1 | cut -d' ' -f2 || true)

@@ -2,7 +2,7 @@
 // thread count given, and prints the median wall time of N runs, the stats and peak RSS.
 //   bench_solver SCENE [--modes rays,aabb,obb,exact] [--threads 1,2] [--runs 3]
 //                [--quality draft|medium|high|reference] [--unit-scale S] [--pin 0|1]
-//                [--clustering 0|1]
+//                [--clustering 0|1] [--read-root DIR]
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -42,7 +42,7 @@ double peakRssMb() {
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr, "usage: bench_solver SCENE [--modes rays,aabb,obb,exact] [--threads 1,2] [--runs 3] "
-                             "[--quality medium] [--unit-scale S] [--pin 0|1] [--clustering 0|1]\n");
+                             "[--quality medium] [--unit-scale S] [--pin 0|1] [--clustering 0|1] [--read-root DIR]\n");
         return 2;
     }
     std::string path = argv[1], modes = "rays,aabb,obb,exact", threads = "1,2", quality = "medium";
@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
         else if (key == "--pin") pin = value != "0";
         else if (key == "--clustering") clustering = value != "0";
         else if (key == "--unit-scale") import_options.unit_scale = std::strtof(value.c_str(), nullptr);
+        else if (key == "--read-root") import_options.read_roots.push_back(value);
         else {
             std::fprintf(stderr, "unknown option %s\n", key.c_str());
             return 2;

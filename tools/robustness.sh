@@ -44,7 +44,8 @@ bad=0
 while IFS= read -r -d '' file; do
     is_scene "$file" || continue
     start=$(date +%s%N)
-    timeout "$limit_seconds" "$radbake" info "$file" >"$work/out" 2>"$work/err"
+    # The collection is one tree: its scenes reach beside their folders (../textures/...).
+    timeout "$limit_seconds" "$radbake" info "$file" --read-root "$scenes" >"$work/out" 2>"$work/err"
     rc=$?
     elapsed_ms=$((($(date +%s%N) - start) / 1000000))
     seconds="$((elapsed_ms / 1000)).$(printf '%03d' $((elapsed_ms % 1000)))"

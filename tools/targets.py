@@ -524,9 +524,9 @@ class Runner:
         r = json.loads(out.strip().splitlines()[-1])
         return {k: 100.0 * r[k] for k in ("rms", "p95", "max", "bias")}
 
-    def bench_solver(self, scene, modes="aabb,exact"):
+    def bench_solver(self, scene, modes="aabb,exact", *options):
         out, _ = self.run([self.program("tools/bench_solver"), scene, "--modes", modes, "--threads", "2",
-                           "--runs", "1"])
+                           "--runs", "1"] + list(options))
         table = parse_bench_solver(out)
         fig = {}
         for mode, row in table.items():
@@ -599,13 +599,13 @@ def m_cornell(density, threads):
 
 def m_shared_bake(key, *options):
     def measure(r):
-        return r.bake(r.shared(key), key + "_bake", "--threads", "2", *options)[1]
+        return r.bake(r.shared(key), key + "_bake", "--threads", "2", "--read-root", r.scenes, *options)[1]
     return measure
 
 
 def m_shared_solve(key):
     def measure(r):
-        return r.bench_solver(r.shared(key))
+        return r.bench_solver(r.shared(key), "aabb,exact", "--read-root", r.scenes)
     return measure
 
 
@@ -739,7 +739,8 @@ MEASUREMENTS = {
     "graz_bake": (m_shared_bake("graz"), False, []),
     "graz_nolm": (m_shared_bake("graz", "--no-lightmaps"), False, []),
     "graz_ratio": (m_graz_ratio, True, ["graz_bake", "graz_nolm"]),
-    "graz44": (lambda r: r.bake(r.shared("graz"), "graz_44", "--threads", "2", "--texel-density", "44")[1],
+    "graz44": (lambda r: r.bake(r.shared("graz"), "graz_44", "--threads", "2", "--read-root", r.scenes,
+                                "--texel-density", "44")[1],
                False, []),
     "classroom_solve": (m_shared_solve("classroom"), False, []),
     "office_solve": (m_shared_solve("office"), False, []),
