@@ -93,7 +93,7 @@ void addReadRootOption(CLI::App& command, ImportOptions& import) {
                     "Also let the scene read files (Inline, EXTERNPROTO, textures, MTL, glTF buffers) under this "
                     "folder; by default only under the scene file's own folder; repeatable")
         ->check(nonEmptyPath())
-        ->check(CLI::ExistingDirectory)
+        ->check(CLI::Validator(CLI::ExistingDirectory).description(""))
         ->allow_extra_args(false)
         ->type_name("DIR");
 }

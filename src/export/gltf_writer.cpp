@@ -10,6 +10,7 @@
 #include <set>
 
 #include "bake/lightmap_charts.h"
+#include "core/read_policy.h"
 #include "core/regular_file.h"
 #include "export/json_detail.h"
 #include "export/mesh_attributes.h"
@@ -273,10 +274,11 @@ int addImageTexture(TextureTable& table, JsonLists& lists, std::string& bin, con
     return static_cast<int>(table.textures.size()) - 1;
 }
 
-// Empty when it is not a regular file (a FIFO would block the write) or cannot be read.
+// Empty when it is not a regular file (a FIFO would block the write), is larger than the
+// import's cap or cannot be read.
 std::string fileBytes(const std::string& path) {
     std::string why;
-    return readRegularFile(path, why).value_or(std::string());
+    return readRegularFile(path, why, kDefaultMaxInputBytes).value_or(std::string());
 }
 
 // The texture index of `path`, adding its image on first use; -1 when it cannot be read (the
