@@ -1,0 +1,42 @@
+// The read policy's check (core/read_policy.h): resolved paths, compared by whole components.
+#include <doctest/doctest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "core/read_policy.h"
+
+namespace fs = std::filesystem;
+using radbake::readPolicyFor;
+
+TEST_CASE("read policy: under the scene's folder by whole components, symbolic links resolved, missing files allowed") {
+    std::string pattern = (fs::temp_directory_path() / "radbake-policy-XXXXXX").string();
+    REQUIRE(mkdtemp(pattern.data()) != nullptr);
+    const fs::path tmp = pattern;
+    fs::create_directories(tmp / "scene" / "sub");
+    fs::create_directories(tmp / "scene2");
+    std::ofstream(tmp / "scene" / "room.wrl") << "#VRML V2.0 utf8\n";
+    std::ofstream(tmp / "scene2" / "other.wrl") << "#VRML V2.0 utf8\n";
+    REQUIRE_MESSAGE(::symlink((tmp / "scene2").c_str(), (tmp / "scene" / "out").c_str()) == 0, std::strerror(errno));
+
+    const auto policy = readPolicyFor((tmp / "scene" / "room.wrl").string(), {});
+    CHECK(policy.whyRefused((tmp / "scene" / "room.wrl").string()).empty());
+    CHECK(policy.whyRefused((tmp / "scene" / "sub" / ".." / "missing.png").string()).empty());  // missing: the caller's
+    CHECK(policy.whyRefused((tmp / "scene" / "sub").string()).find("a directory") != std::string::npos);
+    // A sibling whose name starts like the root's is outside it.
+    CHECK(policy.whyOutside((tmp / "scene2" / "other.wrl").string()).find("outside the read root") != std::string::npos);
+    CHECK_FALSE(policy.whyOutside((tmp / "scene" / ".." / "scene2" / "other.wrl").string()).empty());
+    CHECK(policy.whyOutside((tmp / "scene" / "out" / "other.wrl").string()).find("resolved to '" +
+                                                                                 (tmp / "scene2" / "other.wrl").string()) !=
+          std::string::npos);
+    CHECK_FALSE(policy.whyOutside("/etc/passwd").empty());
+    // A second root widens it.
+    const auto widened = readPolicyFor((tmp / "scene" / "room.wrl").string(), {(tmp / "scene2").string()});
+    CHECK(widened.whyRefused((tmp / "scene" / "out" / "other.wrl").string()).empty());
+    CHECK(widened.whyOutside("/etc/passwd").find("outside every read root") != std::string::npos);
+    fs::remove_all(tmp);
+}
