@@ -74,8 +74,17 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOp
 Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
 Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
 
-// 6. glb, PLY, EXR atlases, probes.csv, previews, stats.json, manifest.json: all or nothing.
+// 6. glb, PLY, EXR atlases, probes.csv, previews, stats.json, manifest.json: all or nothing,
+//    touching only what this bake and the folder's last one wrote (its manifest).
 bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
                WrittenBake* written /* = nullptr */);
+// The folder locked before the bake, so a second bake into it is refused before any work:
+// OutputTransaction::begin(), claimOutputFolder(), bake(), commitBake(bake, transaction); or
+// all of it in one call, bakeInto().
+bool commitBake(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics,
+                WrittenBake* written /* = nullptr */);
+bool bakeInto(const std::string& path, const std::filesystem::path& out_dir, const BakeOptions& options,
+              Progress& progress, Diagnostics& diagnostics, Bake* result /* = nullptr */,
+              WrittenBake* written /* = nullptr */);
 
 }  // namespace radbake

@@ -135,6 +135,14 @@ int runBake(const BakeArgs& args) {
         diagnostics.error({args.depfile, 0, 0}, "cannot write the depfile: " + why);
         return kExitInputError;
     }
+    // The folder is locked (and checked to be this scene's) before any work: a second bake
+    // into it is refused at once, not after its solve.
+    const std::filesystem::path out_dir = args.out_dir.empty()
+                                              ? std::filesystem::path("baked") / sceneNameOf(args.scene)
+                                              : std::filesystem::path(args.out_dir);
+    OutputTransaction transaction(out_dir);
+    if (!transaction.begin(diagnostics) || !claimOutputFolder(transaction, sceneNameOf(args.scene), diagnostics))
+        return kExitInputError;
     BakeOptions options = bakeOptions(args);
     if (!args.probes.empty()) {
         std::optional<std::vector<Probe>> read = readProbes(args.probes, diagnostics);
@@ -149,10 +157,8 @@ int runBake(const BakeArgs& args) {
     }
     const Bake result = bake(args.scene, options, progress, diagnostics);
     if (!result.ok()) return kExitInputError;
-    const std::filesystem::path out_dir = args.out_dir.empty() ? std::filesystem::path("baked") / result.scene->name
-                                                               : std::filesystem::path(args.out_dir);
     WrittenBake written;
-    if (!writeBake(result, out_dir, diagnostics, &written) || diagnostics.hasErrors()) return kExitInputError;
+    if (!commitBake(result, transaction, diagnostics, &written) || diagnostics.hasErrors()) return kExitInputError;
     if (!args.depfile.empty()) {
         std::vector<std::string> targets, inputs = result.scene->input_files;
         for (const std::string& file : written.files) targets.push_back((out_dir / file).lexically_normal().string());

@@ -13,10 +13,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <system_error>
 
 #include "core/regular_file.h"
+#include "export/json_detail.h"
 
 namespace radbake {
 
@@ -127,6 +129,187 @@ void cleanUpStagingOnSignals() {
     for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::signal(signal_number, removeStagingOnSignal);
 }
 
+namespace {
+
+constexpr const char* kJournalName = ".radbake-journal";
+constexpr const char* kJournalTemporaryName = ".radbake-journal.tmp";
+
+// Backups live flat in the staging directory: "lightmaps/a_0.exr" -> ".old-lightmaps%2Fa_0.exr"
+// ('%' is escaped first, so two names never share a backup).
+fs::path backupPath(const fs::path& staging_dir, const std::string& name) {
+    std::string flat = ".old-";
+    for (char c : name) {
+        if (c == '%') flat += "%25";
+        else if (c == '/') flat += "%2F";
+        else flat += c;
+    }
+    return staging_dir / flat;
+}
+
+// The lock of an OUTDIR that does not exist yet: a file beside it, ".<name>.radbake-lock".
+fs::path lockFileOf(const fs::path& out_dir) {
+    return out_dir.parent_path() / ("." + out_dir.filename().string() + ".radbake-lock");
+}
+
+// Whether `fd` still is the file at `path`: a lock taken on a file another bake removed (or
+// replaced) in the meantime locks nothing.
+bool isFileAt(int fd, const fs::path& path) {
+    struct stat open_status {}, path_status {};
+    return ::fstat(fd, &open_status) == 0 && ::stat(path.c_str(), &path_status) == 0 &&
+           open_status.st_dev == path_status.st_dev && open_status.st_ino == path_status.st_ino;
+}
+
+bool existsNoFollow(const fs::path& path) {
+    std::error_code ec;
+    return fs::exists(fs::symlink_status(path, ec));
+}
+
+// `name` is a regular file in OUTDIR reached through real directories: what retire() may
+// remove (never a link, nor anything a linked directory leads to).
+bool isPlainFileInside(const fs::path& out_dir, const std::string& name) {
+    std::error_code ec;
+    fs::path path = out_dir;
+    for (const fs::path& part : fs::path(name).parent_path()) {
+        path /= part;
+        if (!fs::is_directory(fs::symlink_status(path, ec))) return false;
+    }
+    return fs::is_regular_file(fs::symlink_status(out_dir / name, ec));
+}
+
+// A killed bake's lock file beside a folder that exists now (it was killed after its
+// folder appeared): removed when no live bake holds it.
+void removeStaleLockFile(const fs::path& out_dir) {
+    const fs::path lock_file = lockFileOf(out_dir);
+    const int fd = ::open(lock_file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return;
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && isFileAt(fd, lock_file)) ::unlink(lock_file.c_str());
+    ::close(fd);
+}
+
+// What a commit into an existing OUTDIR is about to do, written before it does any of it, so
+// that a commit stopped at any point can be undone from the journal and the files alone.
+struct Journal {
+    enum class Kind { Retire, Replace, Add };  // old file moved aside; old aside and new in; new in
+    struct Step {
+        Kind kind = Kind::Add;
+        std::string name;
+    };
+    std::string staging;                 // relative to OUTDIR
+    std::vector<std::string> made_dirs;  // relative to OUTDIR, parents first
+    std::vector<Step> steps;
+};
+
+std::string journalText(const Journal& journal) {
+    using json_detail::Json;
+    Json steps = Json::array();
+    for (const Journal::Step& step : journal.steps)
+        steps.push_back({step.kind == Journal::Kind::Retire    ? "retire"
+                         : step.kind == Journal::Kind::Replace ? "replace"
+                                                               : "add",
+                         step.name});
+    Json json;
+    json["staging"] = journal.staging;
+    json["made_dirs"] = journal.made_dirs;
+    json["steps"] = std::move(steps);
+    return json_detail::dump(json, 1) + "\n";
+}
+
+// Nullopt unless `text` is a journal this code wrote whose names all stay inside OUTDIR.
+std::optional<Journal> parseJournal(const std::string& text, const fs::path& out_dir) {
+    try {
+        const auto json = json_detail::Json::parse(text);
+        Journal journal;
+        journal.staging = json.at("staging").get<std::string>();
+        const std::string beside = "../." + out_dir.filename().string() + ".radbake-tmp-";
+        if (journal.staging.find('/') != std::string::npos ? journal.staging.rfind(beside, 0) != 0 ||
+                                                                 journal.staging.find('/', 3) != std::string::npos
+                                                           : journal.staging.rfind(".radbake-tmp-", 0) != 0)
+            return std::nullopt;
+        for (const auto& dir : json.at("made_dirs")) {
+            journal.made_dirs.push_back(dir.get<std::string>());
+            if (!isSafeOutputName(journal.made_dirs.back())) return std::nullopt;
+        }
+        for (const auto& step : json.at("steps")) {
+            const std::string kind = step.at(0).get<std::string>();
+            Journal::Step parsed{kind == "retire" ? Journal::Kind::Retire
+                                 : kind == "replace" ? Journal::Kind::Replace
+                                                     : Journal::Kind::Add,
+                                 step.at(1).get<std::string>()};
+            if ((kind != "retire" && kind != "replace" && kind != "add") || !isSafeOutputName(parsed.name))
+                return std::nullopt;
+            journal.steps.push_back(std::move(parsed));
+        }
+        return journal;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+// Written whole or not at all (a temporary renamed into place), and flushed, so that the
+// renames it announces never reach the disk before it does.
+std::string writeJournal(const fs::path& out_dir, const Journal& journal) {
+    const fs::path temporary = out_dir / kJournalTemporaryName;
+    const std::string text = journalText(journal);
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0) return std::strerror(errno);
+    bool ok = true;
+    for (std::string_view rest = text; ok && !rest.empty();) {
+        const ssize_t wrote = ::write(fd, rest.data(), rest.size());
+        if (wrote < 0 && errno == EINTR) continue;
+        ok = wrote > 0;
+        if (ok) rest.remove_prefix(static_cast<size_t>(wrote));
+    }
+    ok = ok && ::fsync(fd) == 0;
+    const int saved = errno;
+    ok = ::close(fd) == 0 && ok;
+    if (!ok || ::rename(temporary.c_str(), (out_dir / kJournalName).c_str()) != 0) {
+        const std::string why = std::strerror(ok ? errno : saved);
+        ::unlink(temporary.c_str());
+        return why;
+    }
+    return {};
+}
+
+// Puts OUTDIR back as it was before the journal's commit, from wherever that commit stopped:
+// each step is judged afresh from the files (is the new file still staged? is the backup
+// there?), so an undo that is itself interrupted can simply be run again. Empty on success,
+// else the rename that failed.
+std::string undoCommit(const fs::path& out_dir, const Journal& journal, const std::function<void()>& renamed) {
+    const fs::path staging = out_dir / journal.staging;
+    std::error_code ec;
+    for (auto it = journal.steps.rbegin(); it != journal.steps.rend(); ++it) {
+        const fs::path target = out_dir / it->name, staged = staging / it->name;
+        if (it->kind != Journal::Kind::Retire && !existsNoFollow(staged) && existsNoFollow(target)) {
+            fs::rename(target, staged, ec);  // the new file arrived: take it back out
+            if (ec) return target.string() + ": " + ec.message();
+            renamed();
+        }
+        const fs::path backup = backupPath(staging, it->name);
+        if (it->kind != Journal::Kind::Add && existsNoFollow(backup)) {
+            fs::rename(backup, target, ec);
+            if (ec) return target.string() + ": " + ec.message();
+            renamed();
+        }
+    }
+    for (auto it = journal.made_dirs.rbegin(); it != journal.made_dirs.rend(); ++it)
+        fs::remove(out_dir / *it, ec);  // left when something else is in it
+    return {};
+}
+
+}  // namespace
+
+bool isSafeOutputName(std::string_view name) {
+    if (name.empty() || name.front() == '/') return false;
+    size_t start = 0;
+    while (start <= name.size()) {
+        const size_t end = std::min(name.find('/', start), name.size());
+        const std::string_view part = name.substr(start, end - start);
+        if (part.empty() || part == "." || part == "..") return false;
+        start = end + 1;
+    }
+    return true;
+}
+
 OutputTransaction::OutputTransaction(fs::path out_dir) : out_dir_(normalisedDir(out_dir)) {}
 
 OutputTransaction::~OutputTransaction() {
@@ -135,6 +318,10 @@ OutputTransaction::~OutputTransaction() {
 }
 
 void OutputTransaction::unlock() {
+    // The lock file goes while we still hold it; a bake that opened it meanwhile sees that
+    // its lock is on a removed file (isFileAt) and starts again.
+    if (lock_fd_ >= 0 && !lock_file_.empty()) ::unlink(lock_file_.c_str());
+    lock_file_.clear();
     for (int* fd : {&lock_fd_, &staging_lock_fd_}) {
         if (*fd >= 0) ::close(*fd);  // closing releases the flock
         *fd = -1;
@@ -142,28 +329,76 @@ void OutputTransaction::unlock() {
 }
 
 bool OutputTransaction::lock(Diagnostics& diagnostics) {
-    // An existing OUTDIR is locked itself (flock on the directory: no lock file to leave
-    // behind; the kernel releases it when a bake dies, even by SIGKILL). A new OUTDIR needs no
-    // lock: it appears by renaming a whole staging directory, and of two bakes racing to make
-    // it the second rename fails, leaving the first bake's folder whole.
+    // An existing OUTDIR is locked itself (flock on the directory); a new one through a lock
+    // file beside it, so that two bakes racing to create it cannot both go ahead. The kernel
+    // releases either when a bake dies, even by SIGKILL. Never waits: a second bake is refused.
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        std::error_code ec;
+        const bool exists = fs::is_directory(out_dir_, ec);
+        const fs::path target = exists ? out_dir_ : lockFileOf(out_dir_);
+        const int fd = exists ? ::open(target.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)
+                              : ::open(target.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+        if (fd < 0 && errno == ENOENT) continue;  // removed since we looked: look again
+        if (fd < 0) {
+            diagnostics.error(at(target), std::string("cannot lock the output directory: ") + std::strerror(errno));
+            return false;
+        }
+        if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+            const int saved = errno;
+            ::close(fd);
+            diagnostics.error(at(out_dir_), saved == EWOULDBLOCK
+                                                ? std::string("another bake is writing into this directory; nothing "
+                                                              "written (bake into another directory, or after it)")
+                                                : std::string("cannot lock the output directory: ") +
+                                                      std::strerror(saved));
+            return false;
+        }
+        const bool settled = isFileAt(fd, target) && (exists || !fs::exists(out_dir_, ec));
+        if (!settled) {
+            // Replaced or removed while we locked it, or another bake's folder appeared:
+            // what is to be locked has changed.
+            if (!exists && isFileAt(fd, target)) ::unlink(target.c_str());
+            ::close(fd);
+            continue;
+        }
+        lock_fd_ = fd;
+        if (!exists) lock_file_ = target;
+        else removeStaleLockFile(out_dir_);
+        return true;
+    }
+    diagnostics.error(at(out_dir_), "cannot lock the output directory: it keeps changing");
+    return false;
+}
+
+namespace {
+
+// A commit a killed bake left half done (its journal in OUTDIR) is undone, under the lock,
+// before this bake looks at anything else. False after reporting: then the journal and the
+// backups it needs are kept.
+bool recoverInterruptedCommit(const fs::path& out_dir, const std::function<void()>& renamed,
+                              Diagnostics& diagnostics) {
+    const fs::path path = out_dir / kJournalName;
+    ::unlink((out_dir / kJournalTemporaryName).c_str());  // a journal never finished: nothing was moved
+    if (!existsNoFollow(path)) return true;
+    std::string why;
+    const std::optional<std::string> text = readRegularFile(path.string(), why);
+    std::optional<Journal> journal = text ? parseJournal(*text, out_dir) : std::nullopt;
     std::error_code ec;
-    if (!fs::is_directory(out_dir_, ec)) return true;
-    lock_fd_ = ::open(out_dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (lock_fd_ < 0) {
-        diagnostics.error(at(out_dir_), std::string("cannot open the output directory: ") + std::strerror(errno));
+    if (journal && !fs::is_directory(out_dir / journal->staging, ec)) why = "its staging directory is gone";
+    else if (!journal && why.empty()) why = "not a journal radbake wrote";
+    if (why.empty()) why = undoCommit(out_dir, *journal, renamed);
+    if (!why.empty()) {
+        diagnostics.error(at(path), "cannot undo the interrupted commit this journal records (" + why +
+                                        "); nothing written: restore the folder and remove the journal");
         return false;
     }
-    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-        const int saved = errno;
-        unlock();
-        diagnostics.error(at(out_dir_), saved == EWOULDBLOCK
-                                            ? std::string("another bake is writing into this directory; nothing "
-                                                          "written (bake into another directory, or after it)")
-                                            : std::string("cannot lock the output directory: ") + std::strerror(saved));
-        return false;
-    }
+    ::unlink(path.c_str());  // the older bake is whole again
+    fs::remove_all(out_dir / journal->staging, ec);
+    diagnostics.note(at(out_dir), "a bake was killed while committing here: its changes were undone");
     return true;
 }
+
+}  // namespace
 
 bool OutputTransaction::begin(Diagnostics& diagnostics) {
     std::error_code ec;
@@ -188,7 +423,12 @@ bool OutputTransaction::begin(Diagnostics& diagnostics) {
         return false;
     }
     created_dirs_.assign(missing.rbegin(), missing.rend());
-    if (!lock(diagnostics)) {
+    size_t renames = 0;
+    const auto renamed = [&] {
+        if (rename_hook_) rename_hook_(++renames);
+    };
+    if (!lock(diagnostics) ||
+        (fs::is_directory(out_dir_, ec) && !recoverInterruptedCommit(out_dir_, renamed, diagnostics))) {
         abandon();
         return false;
     }
@@ -214,43 +454,13 @@ bool OutputTransaction::begin(Diagnostics& diagnostics) {
     if (staging_lock_fd_ >= 0) ::flock(staging_lock_fd_, LOCK_EX);  // ours alone: never waits
     forgetSignalPaths();
     registerSignalPath(staging_dir_);
+    if (!lock_file_.empty()) registerSignalPath(lock_file_);  // ours while we hold it
     return true;
 }
-
-namespace {
-
-// A relative name with '/' separators that cannot leave the directory it is relative to.
-bool isSafeRelativeName(std::string_view name) {
-    if (name.empty() || name.front() == '/') return false;
-    size_t start = 0;
-    while (start <= name.size()) {
-        const size_t end = std::min(name.find('/', start), name.size());
-        const std::string_view part = name.substr(start, end - start);
-        if (part.empty() || part == "." || part == "..") return false;
-        start = end + 1;
-    }
-    return true;
-}
-
-// Backups live flat in the staging directory: "lightmaps/a_0.exr" -> ".old-lightmaps%2Fa_0.exr"
-// ('%' is escaped first, so two names never share a backup).
-std::string flatName(const std::string& name) {
-    std::string out;
-    for (char c : name) {
-        if (c == '%') out += "%25";
-        else if (c == '/') out += "%2F";
-        else out += c;
-    }
-    return out;
-}
-
-}  // namespace
-
-fs::path OutputTransaction::backupOf(const std::string& name) const { return staging_dir_ / (".old-" + flatName(name)); }
 
 fs::path OutputTransaction::stage(std::string_view file_name) {
     const std::string name(file_name);
-    if (!isSafeRelativeName(name)) {
+    if (!isSafeOutputName(name)) {
         // The writer still gets somewhere harmless to write; commit() refuses the whole bake.
         rejected_.push_back(name);
         const fs::path scratch = staging_dir_ / (".rejected-" + std::to_string(rejected_.size()));
@@ -273,27 +483,19 @@ fs::path OutputTransaction::stage(std::string_view file_name) {
         }
     }
     registerSignalPath(path);
-    registerSignalPath(backupOf(name));
+    registerSignalPath(backupPath(staging_dir_, name));
     return path;
 }
 
 void OutputTransaction::retire(std::string_view file_name) {
     const std::string name(file_name);
-    if (!isSafeRelativeName(name)) {
+    if (!isSafeOutputName(name)) {
         rejected_.push_back(name);
         return;
     }
+    if (std::find(retired_.begin(), retired_.end(), name) != retired_.end()) return;
     retired_.push_back(name);
-    registerSignalPath(backupOf(name));
-}
-
-void OutputTransaction::retireUnstagedIn(std::string_view directory) {
-    const std::string name(directory);
-    if (!isSafeRelativeName(name)) {
-        rejected_.push_back(name);
-        return;
-    }
-    retired_dirs_.push_back(name);
+    registerSignalPath(backupPath(staging_dir_, name));
 }
 
 bool OutputTransaction::checkNames(Diagnostics& diagnostics) const {
@@ -301,18 +503,6 @@ bool OutputTransaction::checkNames(Diagnostics& diagnostics) const {
         diagnostics.error(at(out_dir_), "internal: output name '" + name +
                                             "' is not a relative path inside the output directory");
     return rejected_.empty();
-}
-
-std::vector<std::string> OutputTransaction::unstagedIn(const std::string& directory) const {
-    std::vector<std::string> out;
-    std::error_code ec;
-    for (fs::directory_iterator it(out_dir_ / directory, ec), end; !ec && it != end; it.increment(ec)) {
-        if (!it->is_regular_file(ec)) continue;  // sub-directories are not ours to judge
-        const std::string name = directory + "/" + it->path().filename().string();
-        if (std::find(staged_.begin(), staged_.end(), name) == staged_.end()) out.push_back(name);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
 }
 
 bool OutputTransaction::commit(Diagnostics& diagnostics) {
@@ -329,7 +519,7 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
         }
     }
     if (!fs::exists(out_dir_, ec)) {
-        // A new OUTDIR appears in one atomic step, complete.
+        // A new OUTDIR appears in one atomic step, complete (the lock file keeps other bakes out).
         changed_ = staged_.size();
         fs::rename(staging_dir_, out_dir_, ec);
         if (ec) {
@@ -342,100 +532,115 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
         unlock();
         return true;
     }
-    // OUTDIR appeared since begin() (another bake made it): lock it before changing it.
-    if (lock_fd_ < 0 && !lock(diagnostics)) return false;
+    // OUTDIR appeared since begin() (made by hand: a bake would have needed our lock file):
+    // lock it too before changing it.
+    if (!lock_file_.empty()) {
+        const int file_lock = lock_fd_;
+        const fs::path lock_file = lock_file_;
+        lock_fd_ = -1;
+        lock_file_.clear();
+        const bool locked = lock(diagnostics);
+        ::unlink(lock_file.c_str());
+        ::close(file_lock);
+        if (!locked) return false;
+    }
     if (!commitIntoExisting(diagnostics)) return false;
-    forgetSignalPaths();
     committed_ = true;
     fs::remove_all(staging_dir_, ec);  // only backups of the replaced files remain there
     staging_dir_.clear();
-    for (const std::string& dir : retired_dirs_) {
-        const fs::path path = out_dir_ / dir;
-        if (fs::is_directory(path, ec) && fs::is_empty(path, ec)) fs::remove(path, ec);
-    }
+    removeEmptiedDirectories();
     unlock();
     return true;
 }
 
-bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
-    // Each older file is first moved aside into the staging directory, so that a failure
-    // half-way can put every one of them back.
-    struct Step {
-        std::string name;
-        bool had_old = false;
-        bool retired = false;  // no new file: the old one is only moved aside
-    };
-    changed_ = 0;
-    std::vector<Step> done;
-    std::vector<fs::path> made_dirs;  // directories of OUTDIR this commit created, in order
+// Directories a retired file leaves empty go too (a bake now without lightmaps leaves no
+// empty lightmaps/), deepest first; OUTDIR itself stays.
+void OutputTransaction::removeEmptiedDirectories() const {
     std::error_code ec;
-    auto rollBack = [&] {
-        std::error_code ignored;
-        for (auto it = done.rbegin(); it != done.rend(); ++it) {
-            const fs::path target = out_dir_ / it->name;
-            if (it->retired || fs::exists(staging_dir_ / it->name, ignored)) {
-                // The new file never arrived; only the old one may need restoring.
-            } else {
-                fs::rename(target, staging_dir_ / it->name, ignored);
-            }
-            if (it->had_old) fs::rename(backupOf(it->name), target, ignored);
-        }
-        for (auto it = made_dirs.rbegin(); it != made_dirs.rend(); ++it) fs::remove(*it, ignored);
-    };
-    std::vector<std::string> retired = retired_;
-    for (const std::string& dir : retired_dirs_) {
-        for (std::string& name : unstagedIn(dir)) {
-            registerSignalPath(backupOf(name));
-            retired.push_back(std::move(name));
+    for (const std::string& name : retired_) {
+        for (fs::path dir = fs::path(name).parent_path(); !dir.empty(); dir = dir.parent_path()) {
+            const fs::path path = out_dir_ / dir;
+            if (!fs::is_directory(fs::symlink_status(path, ec)) || !fs::is_empty(path, ec) || ec) break;
+            fs::remove(path, ec);
         }
     }
-    for (const std::string& name : retired) {
-        const fs::path target = out_dir_ / name;
-        if (!fs::is_regular_file(target, ec)) continue;
-        fs::rename(target, backupOf(name), ec);
-        if (ec) {
-            diagnostics.error(at(target), "cannot remove older output: " + ec.message());
-            rollBack();
-            return false;
-        }
-        done.push_back({name, true, true});
-    }
+}
+
+bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
+    // The whole plan first, checked before anything moves; the journal records it.
+    Journal journal;
+    journal.staging = staging_dir_.lexically_relative(out_dir_).generic_string();
+    changed_ = 0;
+    std::error_code ec;
+    for (const std::string& name : retired_)
+        if (std::find(staged_.begin(), staged_.end(), name) == staged_.end() && isPlainFileInside(out_dir_, name))
+            journal.steps.push_back({Journal::Kind::Retire, name});
     for (const std::string& name : staged_) {
-        const fs::path target = out_dir_ / name;
-        // Sub-directories ("lightmaps/") are made on the way, remembered for the roll-back.
-        for (fs::path dir = out_dir_; const fs::path& part : fs::path(name).parent_path()) {
-            dir /= part;
+        // Sub-directories ("lightmaps/") are made on the way, undone with the rest.
+        fs::path relative;
+        for (const fs::path& part : fs::path(name).parent_path()) {
+            relative /= part;
+            const fs::path dir = out_dir_ / relative;
             if (fs::is_directory(dir, ec)) continue;
-            if (!fs::create_directory(dir, ec)) {
-                std::error_code ignored;
-                diagnostics.error(at(dir), "cannot create output directory: " +
-                                               (fs::exists(dir, ignored) ? std::string("a file is in the way")
-                                                                         : ec.message()));
-                rollBack();
+            if (existsNoFollow(dir)) {
+                diagnostics.error(at(dir), "cannot create output directory: a file is in the way");
                 return false;
             }
-            made_dirs.push_back(dir);
+            if (std::find(journal.made_dirs.begin(), journal.made_dirs.end(), relative.generic_string()) ==
+                journal.made_dirs.end())
+                journal.made_dirs.push_back(relative.generic_string());
         }
-        Step step{name, fs::exists(target, ec)};
-        if (step.had_old && sameBytes(staging_dir_ / name, target)) continue;  // unchanged: keep the old file
+        const fs::path target = out_dir_ / name;
+        const bool had_old = existsNoFollow(target);
+        if (had_old && sameBytes(staging_dir_ / name, target)) continue;  // unchanged: keep the old file
         ++changed_;
-        if (step.had_old) {
-            fs::rename(target, backupOf(name), ec);
-            if (ec) {
-                diagnostics.error(at(target), "cannot replace older output: " + ec.message());
-                rollBack();
-                return false;
-            }
-        }
-        done.push_back(step);
-        fs::rename(staging_dir_ / name, target, ec);
-        if (ec) {
-            diagnostics.error(at(target), "cannot move output into place: " + ec.message());
-            rollBack();
-            return false;
+        journal.steps.push_back({had_old ? Journal::Kind::Replace : Journal::Kind::Add, name});
+    }
+    if (journal.steps.empty()) return true;
+    // From here a signal leaves the staging directory alone: the journal needs its backups.
+    forgetSignalPaths();
+    if (const std::string why = writeJournal(out_dir_, journal); !why.empty()) {
+        diagnostics.error(at(out_dir_ / kJournalName), "cannot write the commit's journal: " + why);
+        return false;
+    }
+    size_t renames = 0;
+    const auto renamed = [&] {
+        if (rename_hook_) rename_hook_(++renames);
+    };
+    std::string failure;
+    for (const std::string& dir : journal.made_dirs) {
+        if (!fs::create_directory(out_dir_ / dir, ec) && !fs::is_directory(out_dir_ / dir)) {
+            failure = "cannot create output directory " + (out_dir_ / dir).string() + ": " + ec.message();
+            break;
         }
     }
-    return true;
+    for (size_t i = 0; failure.empty() && i < journal.steps.size(); ++i) {
+        const Journal::Step& step = journal.steps[i];
+        const fs::path target = out_dir_ / step.name;
+        if (step.kind != Journal::Kind::Add) {
+            fs::rename(target, backupPath(staging_dir_, step.name), ec);
+            if (ec) failure = "cannot move older output " + target.string() + " aside: " + ec.message();
+            else renamed();
+        }
+        if (failure.empty() && step.kind != Journal::Kind::Retire) {
+            fs::rename(staging_dir_ / step.name, target, ec);
+            if (ec) failure = "cannot move output " + target.string() + " into place: " + ec.message();
+            else renamed();
+        }
+    }
+    if (failure.empty()) {
+        ::unlink((out_dir_ / kJournalName).c_str());  // the commit point: the new bake is whole
+        return true;
+    }
+    diagnostics.error(at(out_dir_), failure);
+    if (const std::string why = undoCommit(out_dir_, journal, [] {}); !why.empty()) {
+        // The journal and the backups stay for the next bake to finish the undo.
+        diagnostics.error(at(out_dir_), "cannot restore the older outputs yet (" + why + "); the next bake will");
+        staging_dir_.clear();
+        return false;
+    }
+    ::unlink((out_dir_ / kJournalName).c_str());
+    return false;
 }
 
 void OutputTransaction::abandon() {
@@ -443,10 +648,10 @@ void OutputTransaction::abandon() {
     std::error_code ec;
     if (!staging_dir_.empty()) fs::remove_all(staging_dir_, ec);
     staging_dir_.clear();
+    unlock();  // the lock file beside a new OUTDIR goes before the parents it may be in
     // Deepest first; fs::remove leaves a directory someone else has put files into.
     for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) fs::remove(*it, ec);
     created_dirs_.clear();
-    unlock();
 }
 
 namespace {

@@ -17,6 +17,7 @@
 #include "core/diagnostics.h"
 #include "core/progress.h"
 #include "export/lightmap_files.h"
+#include "export/output_transaction.h"
 #include "export/preview.h"
 #include "export/stats_json.h"
 #include "pipeline/bake_options.h"
@@ -74,12 +75,31 @@ struct WrittenBake {
 };
 
 // Writes an Ok bake into `out_dir`, all or nothing (OutputTransaction): <name>.glb,
-// <name>.ply, lightmaps/<name>_<k>.exr, probes.csv, preview/*.png, stats.json and
-// manifest.json; files of an older bake that this one does not write are removed, files
-// whose bytes did not change are left as they were (so build tools' restat sees them
-// unchanged). One bake at a time per folder: a second is refused. False after reporting;
-// then `out_dir` is as it was.
+// <name>.ply, lightmaps/<name>_<k>.exr and .png, probes.csv, preview/*.png, stats.json and
+// manifest.json; files the folder's last bake wrote (its manifest lists them) that this one
+// does not write are removed, every other file is kept; a folder holding another scene's bake
+// is refused; files whose bytes did not change are left as they were (so build tools' restat
+// sees them unchanged). One bake at a time per folder: a second is refused. False after
+// reporting; then `out_dir` is as it was.
 bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
                WrittenBake* written = nullptr);
+// The same into a transaction begun before the bake (so the folder was locked before any work).
+bool commitBake(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics,
+                WrittenBake* written = nullptr);
+
+// Checks, right after OutputTransaction::begin(), that the folder holds no other scene's bake
+// (refused: false after reporting), and retires what its last bake wrote. writeBake does it
+// too; calling it first refuses a wrong folder before the bake.
+bool claimOutputFolder(OutputTransaction& transaction, const std::string& scene_name, Diagnostics& diagnostics);
+
+// The name a scene file's outputs are called by (as importScene names the scene): the file
+// name without its format suffix, "room.wrl.gz" -> "room".
+std::string sceneNameOf(const std::string& path);
+
+// `radbake bake` in one call: locks `out_dir` and checks it is this scene's (a second bake, or
+// a folder of another scene, is refused before the scene is read), bakes `path`, and writes
+// the bake there. `result` (optional) receives the bake. False after reporting.
+bool bakeInto(const std::string& path, const std::filesystem::path& out_dir, const BakeOptions& options,
+              Progress& progress, Diagnostics& diagnostics, Bake* result = nullptr, WrittenBake* written = nullptr);
 
 }  // namespace radbake

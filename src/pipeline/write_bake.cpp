@@ -107,37 +107,61 @@ bool stageAll(const Bake& bake, OutputTransaction& transaction, Diagnostics& dia
     ply.generator = generator;
     ply.lightmaps = lightmap_files;
     if (!writePly(transaction.stage(scene.name + ".ply"), scene, bake.vertices, ply, diagnostics)) return false;
-    // Older lightmaps and previews would not match this bake: whatever this run does not
-    // write under those folders is removed on commit.
-    transaction.retireUnstagedIn("lightmaps");
-    transaction.retireUnstagedIn("preview");
     if (bake.lightmaps && !stageLightmapExrs(transaction, bake, diagnostics)) return false;
     for (const LightmapPng& png : lightmap_pngs)
         if (!writeFileBytes(transaction.stage(png.file), png.bytes, diagnostics)) return false;
     for (const PreviewImage& preview : bake.previews)
         if (!writePreviewPng(transaction.stage(preview.file), preview.image, preview.exposure, diagnostics))
             return false;
-    if (!bake.options.probes) {
-        transaction.retire("probes.csv");  // an older one would not match this bake
-    } else if (!writeProbesCsv(transaction.stage("probes.csv"), *bake.options.probes, bake.probe_irradiance,
-                               diagnostics)) {
+    if (bake.options.probes && !writeProbesCsv(transaction.stage("probes.csv"), *bake.options.probes, bake.probe_irradiance,
+                               diagnostics))
         return false;
-    }
     return true;
 }
 
 }  // namespace
 
-bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
-               WrittenBake* written) {
+std::string sceneNameOf(const std::string& path) {
+    std::string file = std::filesystem::path(path).filename().string();
+    if (file.size() > 3 && file.ends_with(".gz")) file.resize(file.size() - 3);
+    const std::string name = std::filesystem::path(file).stem().string();
+    return name.empty() ? "scene" : name;
+}
+
+bool claimOutputFolder(OutputTransaction& transaction, const std::string& scene_name, Diagnostics& diagnostics) {
+    const std::filesystem::path manifest = transaction.outDir() / kManifestName;
+    std::error_code ec;
+    if (!std::filesystem::exists(std::filesystem::symlink_status(manifest, ec))) return true;
+    std::string why;
+    const std::optional<ManifestContents> previous = readManifest(manifest, why);
+    if (!previous) {
+        diagnostics.error({manifest.string(), 0, 0}, "cannot tell which files of this folder are radbake's: " + why +
+                                                         "; nothing written (bake into another folder)");
+        return false;
+    }
+    // An older manifest does not name its scene; its glb does (outputs are named by the scene).
+    std::string scene = previous->scene;
+    for (const std::string& file : previous->files)
+        if (scene.empty() && file.find('/') == std::string::npos && file.ends_with(".glb"))
+            scene = file.substr(0, file.size() - 4);
+    if (!scene.empty() && scene != scene_name) {
+        diagnostics.error({manifest.string(), 0, 0},
+                          "this folder holds the bake of another scene ('" + scene + "'); nothing written (bake '" +
+                              scene_name + "' into another folder, or remove the files its manifest lists)");
+        return false;
+    }
+    for (const std::string& file : previous->files) transaction.retire(file);
+    return true;
+}
+
+bool commitBake(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics, WrittenBake* written) {
     if (!bake.ok() || !bake.scene) {
-        diagnostics.error({out_dir.string(), 0, 0},
+        diagnostics.error({transaction.outDir().string(), 0, 0},
                           std::string("nothing written: the bake did not succeed (") + toString(bake.status) + ")");
         return false;
     }
     const auto start = std::chrono::steady_clock::now();
-    OutputTransaction transaction(out_dir);
-    if (!transaction.begin(diagnostics)) return false;
+    if (!claimOutputFolder(transaction, bake.scene->name, diagnostics)) return false;
     if (!stageAll(bake, transaction, diagnostics)) return false;  // the destructor removes what was staged
 
     // stats.json and timings.json last but the manifest, so that the wall time covers every
@@ -152,12 +176,34 @@ bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnosti
     // The manifest last: the size and SHA-256 of every other output but timings.json (what
     // depends on the run), so the same inputs give the same manifest on any machine.
     const std::vector<std::string> outputs = transaction.staged();
-    if (!writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), outputs, radbakeGenerator(),
-                       diagnostics))
+    if (!writeManifest(transaction.stage(kManifestName), transaction.stagingDir(), outputs, radbakeGenerator(),
+                       bake.scene->name, diagnostics))
         return false;
     if (!transaction.commit(diagnostics)) return false;
     if (written) *written = WrittenBake{.files = transaction.staged(), .changed = transaction.changedCount()};
     return true;
+}
+
+bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
+               WrittenBake* written) {
+    if (!bake.ok() || !bake.scene) {
+        diagnostics.error({out_dir.string(), 0, 0},
+                          std::string("nothing written: the bake did not succeed (") + toString(bake.status) + ")");
+        return false;
+    }
+    OutputTransaction transaction(out_dir);
+    return transaction.begin(diagnostics) && commitBake(bake, transaction, diagnostics, written);
+}
+
+bool bakeInto(const std::string& path, const std::filesystem::path& out_dir, const BakeOptions& options,
+              Progress& progress, Diagnostics& diagnostics, Bake* result, WrittenBake* written) {
+    OutputTransaction transaction(out_dir);
+    if (!transaction.begin(diagnostics) || !claimOutputFolder(transaction, sceneNameOf(path), diagnostics))
+        return false;
+    Bake baked = bake(path, options, progress, diagnostics);
+    const bool ok = baked.ok() && commitBake(baked, transaction, diagnostics, written);
+    if (result) *result = std::move(baked);
+    return ok;
 }
 
 }  // namespace radbake

@@ -39,11 +39,12 @@ TEST_CASE("the manifest lists each output once, sorted, with its size and SHA-25
     REQUIRE(writeManifest(manifest_path, tmp.path,
                           {"stats.json", "room.glb", "manifest.json", "lightmaps/room_1.exr", "lightmaps/room_0.exr",
                            "room.glb"},
-                          "radbake 9.9 \"test\"", diagnostics));
+                          "radbake 9.9 \"test\"", "room", diagnostics));
     CHECK(diagnostics.all().empty());
 
     const nlohmann::json manifest = nlohmann::json::parse(readBytes(manifest_path));
     CHECK(manifest.at("generator").get<std::string>() == "radbake 9.9 \"test\"");
+    CHECK(manifest.at("scene").get<std::string>() == "room");
     const nlohmann::json& listed = manifest.at("files");
     REQUIRE(listed.size() == 4);
     const char* const expected_order[] = {"lightmaps/room_0.exr", "lightmaps/room_1.exr", "room.glb", "stats.json"};
@@ -67,7 +68,7 @@ TEST_CASE("the manifest leaves timings.json out, says so, and does not change wi
     REQUIRE(writeFileBytes(tmp.path / "timings.json", "{\"seconds\": 1}", diagnostics));
     REQUIRE(writeFileBytes(tmp.path / "sub" / "timings.json", "not the bake's", diagnostics));
     const std::vector<std::string> outputs = {"timings.json", "stats.json", "./timings.json", "sub/timings.json"};
-    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", diagnostics));
+    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", "room", diagnostics));
     const std::string first = readBytes(tmp.path / "manifest.json");
     const nlohmann::json manifest = nlohmann::json::parse(first);
     CHECK(manifest.at("excluded") == nlohmann::json::array({"timings.json"}));
@@ -76,7 +77,7 @@ TEST_CASE("the manifest leaves timings.json out, says so, and does not change wi
     CHECK(manifest.at("files").at(1).at("path").get<std::string>() == "sub/timings.json");
 
     REQUIRE(writeFileBytes(tmp.path / "timings.json", "{\"seconds\": 2.5}", diagnostics));
-    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", diagnostics));
+    REQUIRE(writeManifest(tmp.path / "manifest.json", tmp.path, outputs, "radbake", "room", diagnostics));
     CHECK(readBytes(tmp.path / "manifest.json") == first);
     CHECK(diagnostics.all().empty());
 }
@@ -85,13 +86,13 @@ TEST_CASE("a manifest of nothing is valid JSON, and a missing output is reported
     TempDir tmp;
     Diagnostics diagnostics;
     const fs::path manifest_path = tmp.path / "manifest.json";
-    REQUIRE(writeManifest(manifest_path, tmp.path, {}, "radbake", diagnostics));
+    REQUIRE(writeManifest(manifest_path, tmp.path, {}, "radbake", "room", diagnostics));
     const nlohmann::json manifest = nlohmann::json::parse(readBytes(manifest_path));
     CHECK(manifest.at("files").size() == 0);
     CHECK(manifest.at("files").is_array());
 
     fs::remove(manifest_path);
-    CHECK_FALSE(writeManifest(manifest_path, tmp.path, {"lightmaps/absent.exr"}, "radbake", diagnostics));
+    CHECK_FALSE(writeManifest(manifest_path, tmp.path, {"lightmaps/absent.exr"}, "radbake", "room", diagnostics));
     REQUIRE(diagnostics.errorCount() == 1);
     CHECK(diagnostics.all()[0].location.file == (tmp.path / "lightmaps/absent.exr").string());
     CHECK_FALSE(fs::exists(manifest_path));
@@ -107,7 +108,7 @@ TEST_CASE("a manifest written through a transaction describes the committed file
         REQUIRE(writeFileBytes(transaction.stage("room.glb"), "glb", diagnostics));
         REQUIRE(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "exr", diagnostics));
         REQUIRE(writeManifest(transaction.stage("manifest.json"), transaction.stagingDir(), transaction.staged(),
-                              "radbake", diagnostics));
+                              "radbake", "room", diagnostics));
         REQUIRE(transaction.commit(diagnostics));
     }
     const nlohmann::json manifest = nlohmann::json::parse(readBytes(out / "manifest.json"));

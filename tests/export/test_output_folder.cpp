@@ -120,24 +120,31 @@ TEST_CASE("two bakes into one existing folder: the second is refused with a clea
     CHECK(bakeText(out, "two"));
 }
 
-TEST_CASE("two bakes racing to create one folder: it holds one bake's outputs whole, never a mix") {
+TEST_CASE("two bakes racing to create one folder: the second is refused at begin, and no lock file is left") {
     const TempDir tmp;
     const fs::path out = tmp.path / "out";
     Diagnostics da, db;
-    OutputTransaction a(out), b(out);
-    REQUIRE(a.begin(da));
-    REQUIRE(b.begin(db));  // both see no folder yet
+    OutputTransaction a(out);
+    REQUIRE(a.begin(da));  // no folder yet: locked all the same
+    {
+        OutputTransaction b(out);
+        CHECK_FALSE(b.begin(db));
+        REQUIRE(db.hasErrors());
+        CHECK(db.all().front().message.find("another bake") != std::string::npos);
+    }
     REQUIRE(stageText(a, "a.txt", "from a", da));
-    REQUIRE(stageText(a, "b.txt", "from a", da));
-    REQUIRE(stageText(b, "a.txt", "from b", db));
-    REQUIRE(stageText(b, "b.txt", "from b", db));
     REQUIRE(a.commit(da));
-    // b began before the folder existed; it now commits into it under the folder's lock,
-    // file by file, so the folder ends up b's, whole.
-    CHECK(b.commit(db));
-    CHECK(testfs::readBytes(out / "a.txt") == "from b");
-    CHECK(testfs::readBytes(out / "b.txt") == "from b");
-    CHECK(countPrefixed(tmp.path, ".out.radbake-tmp-") == 0);
+    CHECK(testfs::readBytes(out / "a.txt") == "from a");
+    CHECK(countPrefixed(tmp.path, ".out.") == 0);  // no staging, no lock file
+    // Once the first is done, the next may bake; an abandoned bake of a new folder leaves nothing.
+    CHECK(bakeText(out, "from c"));
+    {
+        Diagnostics dd;
+        OutputTransaction d(tmp.path / "never");
+        REQUIRE(d.begin(dd));
+    }
+    CHECK(countPrefixed(tmp.path, ".never.") == 0);
+    CHECK_FALSE(fs::exists(tmp.path / "never"));
 }
 
 TEST_CASE("an output whose bytes did not change keeps its file and time; changed ones are counted") {

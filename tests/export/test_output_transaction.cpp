@@ -141,7 +141,6 @@ TEST_CASE("a first bake with lightmaps creates OUTDIR with its lightmaps/ sub-di
     {
         OutputTransaction transaction(out);
         REQUIRE(transaction.begin(diagnostics));
-        transaction.retireUnstagedIn("lightmaps");  // nothing there yet: fine
         CHECK(writeFileBytes(transaction.stage("room.glb"), "glb", diagnostics));
         CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "exr0", diagnostics));
         CHECK(writeFileBytes(transaction.stage("lightmaps/room_1.exr"), "exr1", diagnostics));
@@ -159,19 +158,20 @@ TEST_CASE("a first bake with lightmaps creates OUTDIR with its lightmaps/ sub-di
     CHECK(listing(tmp.path) == expected);
 }
 
-TEST_CASE("a re-bake with fewer atlases leaves no stale lightmaps; one without lightmaps removes the directory") {
+TEST_CASE("a re-bake with fewer atlases retires only the older files it is told of; the rest stay") {
     TempDir tmp;
     const fs::path out = tmp.path / "room";
     fs::create_directories(out / "lightmaps" / "user");
     put(out / "room.glb", "old glb");
     put(out / "notes.txt", "the user's own file");
     for (int k = 0; k < 3; ++k) put(out / "lightmaps" / ("room_" + std::to_string(k) + ".exr"), "old exr");
+    put(out / "lightmaps" / "README", "the user's own file, beside our atlases");
     put(out / "lightmaps" / "user" / "keep.txt", "inside a sub-directory: not ours");
     Diagnostics diagnostics;
     {
         OutputTransaction transaction(out);
         REQUIRE(transaction.begin(diagnostics));
-        transaction.retireUnstagedIn("lightmaps");
+        for (int k = 0; k < 3; ++k) transaction.retire("lightmaps/room_" + std::to_string(k) + ".exr");
         CHECK(writeFileBytes(transaction.stage("room.glb"), "new glb", diagnostics));
         CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "new exr", diagnostics));
         REQUIRE(transaction.commit(diagnostics));
@@ -182,22 +182,51 @@ TEST_CASE("a re-bake with fewer atlases leaves no stale lightmaps; one without l
                                                    {"room/notes.txt", "the user's own file"},
                                                    {"room/lightmaps/", ""},
                                                    {"room/lightmaps/room_0.exr", "new exr"},
+                                                   {"room/lightmaps/README", "the user's own file, beside our atlases"},
                                                    {"room/lightmaps/user/", ""},
                                                    {"room/lightmaps/user/keep.txt", "inside a sub-directory: not ours"}};
     CHECK(listing(tmp.path) == expected);
 
-    // --no-lightmaps: nothing staged under lightmaps/, so the atlas goes; the directory stays
-    // only while it holds something else.
-    fs::remove_all(out / "lightmaps" / "user");
-    {
+    // No lightmaps: the last atlas goes; the directory stays only while it holds something else.
+    for (const bool readme : {true, false}) {
+        CAPTURE(readme);
+        fs::remove_all(out / "lightmaps" / "user");
+        if (!readme) fs::remove(out / "lightmaps" / "README");
+        put(out / "lightmaps" / "room_0.exr", "new exr");
         OutputTransaction transaction(out);
         REQUIRE(transaction.begin(diagnostics));
-        transaction.retireUnstagedIn("lightmaps");
+        transaction.retire("lightmaps/room_0.exr");
         CHECK(writeFileBytes(transaction.stage("room.glb"), "third glb", diagnostics));
         REQUIRE(transaction.commit(diagnostics));
+        expected = {{"room/", ""}, {"room/room.glb", "third glb"}, {"room/notes.txt", "the user's own file"}};
+        if (readme) {
+            expected["room/lightmaps/"] = "";
+            expected["room/lightmaps/README"] = "the user's own file, beside our atlases";
+        }
+        CHECK(listing(tmp.path) == expected);
     }
     CHECK(diagnostics.all().empty());
-    expected = {{"room/", ""}, {"room/room.glb", "third glb"}, {"room/notes.txt", "the user's own file"}};
+}
+
+TEST_CASE("retire() removes only a regular file reached through real directories") {
+    TempDir tmp;
+    const fs::path out = tmp.path / "room", elsewhere = tmp.path / "elsewhere";
+    fs::create_directories(out);
+    fs::create_directories(elsewhere / "lightmaps");
+    put(elsewhere / "lightmaps" / "room_0.exr", "not in the folder");
+    put(elsewhere / "target.txt", "a link's target");
+    fs::create_directory_symlink(elsewhere / "lightmaps", out / "lightmaps");
+    fs::create_symlink(elsewhere / "target.txt", out / "link.txt");
+    fs::create_directory(out / "dir.exr");
+    const auto before = listing(tmp.path);
+    Diagnostics diagnostics;
+    OutputTransaction transaction(out);
+    REQUIRE(transaction.begin(diagnostics));
+    for (const char* name : {"lightmaps/room_0.exr", "link.txt", "dir.exr", "absent.exr"}) transaction.retire(name);
+    REQUIRE(writeFileBytes(transaction.stage("room.glb"), "glb", diagnostics));
+    REQUIRE(transaction.commit(diagnostics));
+    auto expected = before;
+    expected["room/room.glb"] = "glb";
     CHECK(listing(tmp.path) == expected);
 }
 
@@ -213,7 +242,7 @@ TEST_CASE("an abandoned bake with lightmaps leaves an existing OUTDIR untouched 
     {
         OutputTransaction transaction(out);
         REQUIRE(transaction.begin(diagnostics));
-        transaction.retireUnstagedIn("lightmaps");
+        transaction.retire("lightmaps/room_1.exr");
         CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "new exr", diagnostics));
         CHECK(fs::is_regular_file(transaction.stagingDir() / "lightmaps" / "room_0.exr"));
         // The bake fails before commit.
@@ -244,7 +273,7 @@ TEST_CASE("a commit failing part-way restores replaced and retired files in sub-
     {
         OutputTransaction transaction(out);
         REQUIRE(transaction.begin(diagnostics));
-        transaction.retireUnstagedIn("lightmaps");
+        transaction.retire("lightmaps/room_2.exr");
         CHECK(writeFileBytes(transaction.stage("room.glb"), "new glb", diagnostics));
         CHECK(writeFileBytes(transaction.stage("lightmaps/room_0.exr"), "new exr 0", diagnostics));
         CHECK(writeFileBytes(transaction.stage("lightmaps/new/room_1.exr"), "in a new directory", diagnostics));
@@ -282,7 +311,7 @@ TEST_CASE("output names that could leave OUTDIR are refused at commit") {
     TempDir tmp;
     OutputTransaction transaction(tmp.path / "room");
     REQUIRE(transaction.begin(diagnostics));
-    transaction.retireUnstagedIn("..");  // would judge the files beside OUTDIR
+    transaction.retire("../x");  // a file beside OUTDIR
     CHECK_FALSE(transaction.commit(diagnostics));
     CHECK(diagnostics.errorCount() == 1);
 }

@@ -317,6 +317,11 @@ static_assert(std::is_same_v<decltype(&bakeLightmaps),
                                       ParallelRunner&, Lightmaps&, Diagnostics&, Progress*)>);
 static_assert(std::is_same_v<decltype(&writeBake),
                              bool (*)(const Bake&, const std::filesystem::path&, Diagnostics&, WrittenBake*)>);
+static_assert(std::is_same_v<decltype(&commitBake),
+                             bool (*)(const Bake&, OutputTransaction&, Diagnostics&, WrittenBake*)>);
+static_assert(std::is_same_v<decltype(&bakeInto),
+                             bool (*)(const std::string&, const std::filesystem::path&, const BakeOptions&, Progress&,
+                                      Diagnostics&, Bake*, WrittenBake*)>);
 
 TEST_CASE("a bake over its memory budget stops with an error naming the budget, and writes nothing") {
     BakeOptions options = draftOptions(2);
