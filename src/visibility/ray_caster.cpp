@@ -7,8 +7,10 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -17,6 +19,33 @@
 namespace radbake {
 
 namespace {
+
+// closestHit's second query: every hit within a window around the first one's distance is
+// recorded and rejected, so the whole tie set is seen whatever order Embree's traversal
+// (which differs between SSE, AVX2 and AVX-512 builds) meets it in.
+struct TieContext {
+    RTCIntersectContext context;  // first: Embree passes a pointer to it to the filter
+    bool collect = false;
+    float t_lo = 0.0f, t_hi = 0.0f;
+    struct Hit {
+        unsigned geometry, primitive;
+        float t, u, v;
+    };
+    std::array<Hit, 16> hits;
+    size_t count = 0;
+};
+
+void collectTies(const RTCFilterFunctionNArguments* args) {
+    const auto* base = args->context;
+    if (base == nullptr || args->N != 1) return;
+    auto* ties = const_cast<TieContext*>(reinterpret_cast<const TieContext*>(base));
+    if (!ties->collect || args->valid[0] == 0) return;
+    const float t = RTCRayN_tfar(args->ray, 1, 0);
+    if (t >= ties->t_lo && t <= ties->t_hi && ties->count < ties->hits.size())
+        ties->hits[ties->count++] = {RTCHitN_geomID(args->hit, 1, 0), RTCHitN_primID(args->hit, 1, 0), t,
+                                     RTCHitN_u(args->hit, 1, 0), RTCHitN_v(args->hit, 1, 0)};
+    args->valid[0] = 0;  // keep looking
+}
 
 // Frame. Embree works in float; a scene far from the origin (georeferenced or CAD
 // coordinates) would lose its float precision there. So Embree gets the geometry translated
@@ -376,6 +405,7 @@ size_t attachMesh(RayCaster::Impl& impl, const MeshCopy& copy, uint32_t geometry
         indices[3 * written + 2] = copy.triangles[t].z;
         ++written;
     }
+    rtcSetGeometryIntersectFilterFunction(geometry, collectTies);
     rtcCommitGeometry(geometry);
     rtcAttachGeometryByID(impl.scene, geometry, geometry_id);
     rtcReleaseGeometry(geometry);
@@ -403,7 +433,10 @@ std::unique_ptr<RayCaster> RayCaster::build(const Scene& scene, Diagnostics& dia
         // No "threads=N" in the device config: Embree turns it into a process-wide TBB limit
         // (tbb::global_control) that would bind the host program and every other bake. The
         // build runs in an arena of our own instead (below).
-        impl->device = rtcNewDevice(nullptr);
+        // RADBAKE_EMBREE_CONFIG (e.g. "isa=sse4.2"): for tests that outputs are the same
+        // whatever instruction set Embree picks on the machine.
+        const char* config = std::getenv("RADBAKE_EMBREE_CONFIG");
+        impl->device = rtcNewDevice(config != nullptr && *config != '\0' ? config : nullptr);
         if (!impl->device) {
             diagnostics.error(where, "ray caster: Embree device creation failed (error " +
                                          std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
@@ -585,8 +618,8 @@ std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& di
         return std::nullopt;
     std::call_once(impl_->primitive_map_once, [this] { impl_->buildPrimitiveMap(); });
 
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    TieContext ties;
+    rtcInitIntersectContext(&ties.context);
     RTCRayHit query{};
     query.ray.org_x = static_cast<float>(origin_local.x);
     query.ray.org_y = static_cast<float>(origin_local.y);
@@ -604,8 +637,32 @@ std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& di
     query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     query.hit.primID = RTC_INVALID_GEOMETRY_ID;
     query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(impl_->scene, &context, &query);
+    rtcIntersect1(impl_->scene, &ties.context, &query);
     if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID || query.hit.geomID >= impl_->meshes.size()) return std::nullopt;
+    // Surfaces at the same distance (coincident faces): the one with the least (geometry,
+    // triangle) numbers, not the first one the traversal met.
+    const float t_hit = query.ray.tfar;
+    const float window = 4.0f * std::numeric_limits<float>::epsilon() *
+                         (t_hit + std::abs(query.ray.org_x) + std::abs(query.ray.org_y) + std::abs(query.ray.org_z));
+    ties.collect = true;
+    ties.t_lo = t_hit - window;
+    ties.t_hi = t_hit + window;
+    query.ray.tnear = std::max(static_cast<float>(impl_->epsilon), ties.t_lo);
+    query.ray.tfar = ties.t_hi;
+    const unsigned first_geometry = query.hit.geomID, first_primitive = query.hit.primID;
+    const float first_u = query.hit.u, first_v = query.hit.v;
+    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &ties.context, &query);
+    query.ray.tfar = t_hit;
+    query.hit.geomID = first_geometry, query.hit.primID = first_primitive, query.hit.u = first_u, query.hit.v = first_v;
+    for (size_t k = 0; k < ties.count; ++k) {
+        const TieContext::Hit& h = ties.hits[k];
+        if (h.geometry < query.hit.geomID || (h.geometry == query.hit.geomID && h.primitive < query.hit.primID)) {
+            query.hit.geomID = h.geometry, query.hit.primID = h.primitive, query.hit.u = h.u, query.hit.v = h.v;
+            query.ray.tfar = h.t;
+        }
+    }
+    if (query.hit.geomID >= impl_->meshes.size()) return std::nullopt;
 
     const uint32_t mesh = query.hit.geomID;
     const std::vector<uint32_t>& map = impl_->primitive_triangle[mesh];

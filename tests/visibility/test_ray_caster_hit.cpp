@@ -252,3 +252,54 @@ TEST_CASE("closestHit gives the same answers on several threads at once") {
     }
     CHECK(hits > 50);
 }
+
+TEST_CASE("closestHit on coincident faces names the least triangle, whatever instruction set Embree runs") {
+    // Random boxes each doubled by a coincident copy facing inward (a floor slab and the
+    // ceiling under it): every hit is a tie between two faces.
+    std::mt19937_64 rng(20261206);
+    Scene scene;
+    for (int b = 0; b < 6; ++b) {
+        Mesh outward = randomBox(rng);
+        Mesh inward = outward;
+        for (UVec3& t : inward.triangles) std::swap(t.y, t.z);
+        scene.meshes.push_back(std::move(outward));
+        scene.meshes.push_back(std::move(inward));
+    }
+    std::vector<std::pair<DVec3, DVec3>> rays;
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (int k = 0; k < 12000; ++k)
+        rays.push_back({DVec3(6 * unit(rng), 6 * unit(rng), 6 * unit(rng)),
+                        glm::normalize(DVec3(unit(rng), unit(rng), unit(rng)))});
+    std::vector<std::vector<std::optional<RayHit>>> answers;
+    for (const char* isa : {"isa=sse4.2", "isa=avx2"}) {
+        setenv("RADBAKE_EMBREE_CONFIG", isa, 1);
+        Diagnostics diagnostics;
+        auto caster = RayCaster::build(scene, diagnostics);
+        unsetenv("RADBAKE_EMBREE_CONFIG");
+        REQUIRE(caster);
+        std::vector<std::optional<RayHit>> hits;
+        for (const auto& [origin, direction] : rays) hits.push_back(caster->closestHit(origin, direction, 100.0));
+        answers.push_back(std::move(hits));
+    }
+    size_t hits = 0, least = 0, differing = 0;
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const auto& a = answers[0][k];
+        const auto& b = answers[1][k];
+        if (a.has_value() != b.has_value() || (a && (a->triangle.mesh != b->triangle.mesh ||
+                                                     a->triangle.triangle != b->triangle.triangle ||
+                                                     std::abs(a->t - b->t) > 1e-5 * (10.0 + a->t)))) {
+            if (differing++ < 5)
+                MESSAGE("ray " << k << ": " << (a ? int(a->triangle.mesh) : -1) << "/" << (a ? int(a->triangle.triangle) : -1)
+                               << " t " << (a ? a->t : 0.0) << " vs " << (b ? int(b->triangle.mesh) : -1) << "/"
+                               << (b ? int(b->triangle.triangle) : -1) << " t " << (b ? b->t : 0.0));
+            continue;
+        }
+        if (!a) continue;
+        ++hits;
+        least += a->triangle.mesh % 2 == 0 ? 1 : 0;  // the outward copy comes first
+    }
+    MESSAGE(hits << " hits on coincident faces");
+    CHECK(hits > 500);
+    CHECK(differing == 0);
+    CHECK(least == hits);
+}
