@@ -526,7 +526,8 @@ void reportCoplanarOverlaps(const std::vector<Mesh>& meshes, Diagnostics& diagno
     if (finder.stopped() && !meshes.empty())
         diagnostics.note(meshes.front().location,
                          "the coplanar overlap check stopped after " + std::to_string(finder.pairsExamined()) +
-                             " face pairs (faces stacked on each other in one plane); overlaps after that are not reported");
+                             " face pairs (faces stacked on each other in one plane); overlaps after that are "
+                             "not reported");
     const Layout& layout = finder.layout();
     const std::vector<double>& areas = finder.polygonAreas();
     std::map<std::pair<size_t, size_t>, MeshPairReport> reports;

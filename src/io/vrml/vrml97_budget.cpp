@@ -23,7 +23,11 @@ PrimitiveSize sizeOf(const Mesh& mesh) {
 PrimitiveSize primitiveSize(const std::string& type) {
     static const PrimitiveSize box = [] { Mesh m; appendBox(m, Vec3(1.0f)); return sizeOf(m); }();
     static const PrimitiveSize sphere = [] { Mesh m; appendSphere(m, 1.0f); return sizeOf(m); }();
-    static const PrimitiveSize cylinder = [] { Mesh m; appendCylinder(m, 1.0f, 1.0f, true, true, true); return sizeOf(m); }();
+    static const PrimitiveSize cylinder = [] {
+        Mesh m;
+        appendCylinder(m, 1.0f, 1.0f, true, true, true);
+        return sizeOf(m);
+    }();
     static const PrimitiveSize cone = [] { Mesh m; appendCone(m, 1.0f, 1.0f, true, true); return sizeOf(m); }();
     if (type == "Box") return box;
     if (type == "Sphere") return sphere;
@@ -45,7 +49,8 @@ Vrml97Builder::Expansion Vrml97Builder::geometryExpansion(const Node& geometry) 
         // At most a vertex and a triangle per index (a face of k corners makes k - 2 triangles).
         vertices = triangles = static_cast<double>(mfInts(geometry, "coordIndex").size());
     } else if (type == "ElevationGrid") {
-        const double nx = std::max(sfInt(geometry, "xDimension", 0), 0), nz = std::max(sfInt(geometry, "zDimension", 0), 0);
+        const double nx = std::max(sfInt(geometry, "xDimension", 0), 0);
+        const double nz = std::max(sfInt(geometry, "zDimension", 0), 0);
         vertices = nx * nz;
         triangles = 2.0 * std::max(nx - 1.0, 0.0) * std::max(nz - 1.0, 0.0);
     } else if (type == "Extrusion") {
