@@ -9,12 +9,14 @@
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "cli/commands.h"
 #include "cli/option_checks.h"
+#include "core/memory.h"
 #include "core/regular_file.h"
 #include "export/output_transaction.h"
 #include "radbake.h"
@@ -60,7 +62,6 @@ struct BakeArgs {
 // (ten million threads crash TBB; an unbounded density or budget overflows the arithmetic).
 constexpr long long kMaxThreads = 1024;
 constexpr long long kMaxIterations = 1000000;
-constexpr double kMaxMemoryMb = 1e9;       // MiB: a pebibyte
 constexpr double kMaxTexelDensity = 1e6;   // texels per scene unit
 constexpr long long kMaxTexels = 1LL << 32;
 
@@ -95,7 +96,7 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     if (args.min_area_option->count()) solver.min_element_area = args.min_area;
     if (args.tolerance_option->count()) solver.iteration_tolerance = args.tolerance;
     if (args.max_iterations_option->count()) solver.max_iterations = args.max_iterations;
-    solver.max_memory_mb = args.max_memory_mb;
+    solver.max_memory_mb = args.max_memory_mb;  // bake() reads the scene under it too
     solver.clustering = !args.no_clustering;
     if (!args.edge_correction.empty())
         options.readout.edge_correction = args.edge_correction == "on"       ? EdgeCorrection::On
@@ -263,11 +264,7 @@ void addBakeCommand(CLI::App& app, int& result) {
                         "Iterations per solve before stopping with a warning; " + presetValues(&SolverOptions::max_iterations))
             ->transform(wholeIn(1, kMaxIterations));
 
-    cmd->add_option("--max-memory", args->max_memory_mb,
-                    "Stop the solve with an error when the process holds more than this many MiB (0: 3/4 of "
-                    "this machine's memory), instead of failing an allocation or being killed")
-        ->check(nonNegativeReal(kMaxMemoryMb))
-        ->capture_default_str();
+    addMaxMemoryOption(*cmd, args->max_memory_mb);
     cmd->add_flag("--no-clustering", args->no_clustering,
                   "Link every facing pair of polygons instead of starting links between clusters of them "
                   "(quadratic in the polygon count: for comparisons)");
@@ -319,8 +316,12 @@ void addBakeCommand(CLI::App& app, int& result) {
         // The program's outer boundary: nothing escapes main; unwinding abandons the outputs.
         try {
             result = runBake(*args);
+        } catch (const std::bad_alloc&) {
+            std::fprintf(stderr, "%s\n",
+                         formatDiagnostic({Severity::Error, {args->scene, 0, 0}, outOfMemoryMessage("baking")}).c_str());
+            result = kExitInputError;
         } catch (const std::exception& e) {
-            std::fprintf(stderr, "error: %s\n", e.what());
+            std::fprintf(stderr, "%s: error: %s\n", args->scene.c_str(), e.what());
             result = kExitInputError;
         }
     });

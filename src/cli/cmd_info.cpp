@@ -1,12 +1,15 @@
 // `radbake info SCENE`: what was read, as text or JSON.
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
+#include <new>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/option_checks.h"
+#include "core/memory.h"
 #include "io/import.h"
 #include "scene/two_sided.h"
 
@@ -19,9 +22,7 @@ struct InfoArgs {
     ImportOptions import;
 };
 
-int runInfo(const InfoArgs& args) {
-    Diagnostics diagnostics;
-    printDiagnosticsToStderr(diagnostics);
+int printInfo(const InfoArgs& args, Diagnostics& diagnostics) {
     std::optional<Scene> scene = importScene(args.scene, args.import, diagnostics);
     if (!scene) return kExitInputError;
 
@@ -83,6 +84,20 @@ int runInfo(const InfoArgs& args) {
     return kExitOk;
 }
 
+// The command's boundary: an allocation failing anyway is a located error and exit 1, never an abort.
+int runInfo(const InfoArgs& args) {
+    Diagnostics diagnostics;
+    printDiagnosticsToStderr(diagnostics);
+    try {
+        return printInfo(args, diagnostics);
+    } catch (const std::bad_alloc&) {
+        diagnostics.error({args.scene, 0, 0}, outOfMemoryMessage("summarising the scene"));
+    } catch (const std::exception& e) {
+        diagnostics.error({args.scene, 0, 0}, std::string("info failed: ") + e.what());
+    }
+    return kExitInputError;
+}
+
 }  // namespace
 
 void addInfoCommand(CLI::App& app, int& result) {
@@ -92,6 +107,7 @@ void addInfoCommand(CLI::App& app, int& result) {
     cmd->add_flag("--json", args->json, "Print a JSON object on stdout");
     addSceneScaleOptions(*cmd, args->import);
     addReadRootOption(*cmd, args->import);
+    addMaxMemoryOption(*cmd, args->import.max_memory_mb);
     cmd->add_flag("--strict", args->import.strict, "Unknown VRML nodes and fields are errors");
     cmd->callback([args, &result] { result = runInfo(*args); });
 }

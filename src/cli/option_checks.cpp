@@ -98,6 +98,18 @@ void addReadRootOption(CLI::App& command, ImportOptions& import) {
         ->type_name("DIR");
 }
 
+void addMaxMemoryOption(CLI::App& command, double& max_memory_mb) {
+    constexpr double kMaxMemoryMb = 1e9;  // MiB: a pebibyte
+    command
+        .add_option("--max-memory", max_memory_mb,
+                    "Memory budget in MiB (0: 3/4 of this machine's memory, or of ulimit -v when lower): "
+                    "geometry a scene expands to, each texture and the validation are checked against it "
+                    "before they are built, and the solve stops when the process holds more; an error "
+                    "instead of a failed allocation or a kill")
+        ->check(nonNegativeReal(kMaxMemoryMb))
+        ->capture_default_str();
+}
+
 CLI::Validator nonEmptyPath() {
     return CLI::Validator([](std::string& text) { return text.empty() ? std::string("an empty path is not a file") : ""; },
                           "");

@@ -31,4 +31,7 @@ void addSceneScaleOptions(CLI::App& command, ImportOptions& import);
 // --read-root DIR (repeatable): a folder the scene may read files under besides its own.
 void addReadRootOption(CLI::App& command, ImportOptions& import);
 
+// --max-memory MB: the one budget of the whole command (import, textures, validation, solve).
+void addMaxMemoryOption(CLI::App& command, double& max_memory_mb);
+
 }  // namespace radbake::cli

@@ -45,6 +45,8 @@ public:
     void printLine(std::string_view line);
 
     bool shown() const { return show_; }
+    // The phase under way ("" between phases); read it from the thread that begins phases.
+    const std::string& currentPhase() const { return current_; }
 
     void setSink(Sink sink) { sink_ = std::move(sink); }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/memory.h"
 #include "io/assimp/assimp_reader.h"
 #include "io/vrml/vrml_reader.h"
 #include "scene/creases.h"
@@ -38,10 +39,29 @@ std::string firstBytes(const std::string& path, size_t count) {
     return bytes;
 }
 
+std::optional<Scene> importPhases(const std::string& path, const ImportOptions& options, Diagnostics& diagnostics,
+                                  const char*& phase);
+
 }  // namespace
 
 std::optional<Scene> importScene(const std::string& path, const ImportOptions& options,
                                  Diagnostics& diagnostics) {
+    const char* phase = "reading the scene";
+    try {
+        return importPhases(path, options, diagnostics, phase);
+    } catch (const std::bad_alloc&) {
+        diagnostics.error({path, 0, 0}, outOfMemoryMessage(phase));
+    } catch (const std::exception& e) {
+        diagnostics.error({path, 0, 0}, std::string("import failed while ") + phase + ": " + e.what());
+    }
+    return std::nullopt;
+}
+
+namespace {
+
+// importScene's work; `phase` names the step under way for the boundary's message.
+std::optional<Scene> importPhases(const std::string& path, const ImportOptions& options, Diagnostics& diagnostics,
+                                  const char*& phase) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
         diagnostics.error({path, 0, 0}, "cannot open scene file (no such regular file)");
@@ -66,11 +86,12 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
     if (scene.name.empty()) scene.name = "scene";
 
     const ReadPolicy policy = readPolicyFor(path, options.read_roots, options.max_input_bytes);
+    MemoryGauge memory(memoryBudgetMegabytes(options.max_memory_mb));
     std::vector<std::string> files_read;
     const bool ok = looksLikeVrml(firstBytes(path, 16))
                         ? readVrml(path,
                                    VrmlOptions{.strict = options.strict, .files_read = &files_read, .policy = &policy,
-                                               .files_refused = &scene.refused_inputs},
+                                               .files_refused = &scene.refused_inputs, .memory = &memory},
                                    scene, diagnostics)
                         : readWithAssimp(path, scene, diagnostics,
                                          AssimpReads{.policy = &policy, .files_read = &files_read,
@@ -86,15 +107,20 @@ std::optional<Scene> importScene(const std::string& path, const ImportOptions& o
     applyScales(scene, options);
     // After the emission scale (a textured emission is the scaled colour times the texture),
     // before validation (which clamps textured reflectance as it does the materials').
-    applyTextures(scene, policy, diagnostics);
+    phase = "reading textures";
+    applyTextures(scene, policy, options.max_memory_mb, diagnostics);
     std::sort(scene.refused_inputs.begin(), scene.refused_inputs.end());
     scene.refused_inputs.erase(std::unique(scene.refused_inputs.begin(), scene.refused_inputs.end()),
                                scene.refused_inputs.end());
-    if (!validateScene(scene, diagnostics)) return std::nullopt;
+    phase = "validating the scene";
+    if (!validateScene(scene, diagnostics, memory.budgetMegabytes())) return std::nullopt;
     // After validation (no degenerate triangles left to misjudge an edge), before the solve:
     // every later stage sees each face's corners as its own.
+    phase = "splitting hard edges";
     splitHardEdges(scene);
     return scene;
 }
+
+}  // namespace
 
 }  // namespace radbake

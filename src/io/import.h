@@ -17,12 +17,18 @@ struct ImportOptions {
     // texture, an MTL or a glTF buffer anywhere else is refused with a warning, as missing.
     std::vector<std::string> read_roots;
     size_t max_input_bytes = kDefaultMaxInputBytes;  // each file read, each gzip stream inflated
+    // --max-memory (MiB; 0: 3/4 of the machine's memory): geometry a scene expands to (DEF/USE
+    // fan-out, Extrusion, primitives), each texture and validation are estimated against it
+    // before they are built. bake() reads the scene under SolverOptions::max_memory_mb when
+    // this is 0, so one budget covers the whole bake.
+    double max_memory_mb = 0.0;
 };
 
 // Reads VRML97 / VRML 1.0 with our own reader (also gzipped) and everything else through
 // Assimp, then validates and splits vertices at hard edges (scene/creases.h; counted in
 // Scene::crease_split). Files the scene names are read under core/read_policy.h's policy
-// (Scene::refused_inputs). Returns nullopt after reporting at least one located error.
+// (Scene::refused_inputs). Returns nullopt after reporting at least one located error: no
+// exception leaves it (an allocation that fails anyway is a located error naming the phase).
 std::optional<Scene> importScene(const std::string& path, const ImportOptions& options,
                                  Diagnostics& diagnostics);
 

@@ -3,10 +3,13 @@
 #include "pipeline/bake.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <exception>
+#include <new>
 
 #include "bake/lightmap_budget.h"
 #include "bake/lightmap_mesh.h"
+#include "core/memory.h"
 #include "core/parallel.h"
 #include "export/hash.h"
 #include "geometry/parts.h"
@@ -126,6 +129,12 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     };
     out.report.threads = runner.threads();
     if (!checkBakeable(scene, diagnostics)) return (void)stopped();
+    // One budget for the whole bake: each phase starts within it (the solve checks as it links).
+    const double budget_mb = memoryBudgetMegabytes(options.solver.max_memory_mb);
+    const auto beginPhase = [&](const char* name) {
+        progress.beginPhase(name);
+        checkMemoryBudget(budget_mb, name);
+    };
     // Every input file is read once: the scene file's own hash is the first input's.
     std::vector<std::string> inputs = scene.input_files;
     const bool source_listed = !inputs.empty() && inputs.front() ==
@@ -169,14 +178,14 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
 
     std::string solution_key;
     if (!options.solution_file.empty()) {
-        progress.beginPhase("saved solution");
+        beginPhase("saved solution");
         solution_key = solutionKey(scene, options.solver);
         out.solution = loadSolution(scene, options.solver, solution_key, options.solution_file, runner.threads(),
                                     diagnostics);
         if (stopped()) return;
     }
     if (!out.solution) {
-        progress.beginPhase("parts");
+        beginPhase("parts");
         const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
         if (stopped()) return;
         progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
@@ -192,7 +201,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     out.report.options = options.solver;
     out.report.solve = out.solution->stats;
 
-    progress.beginPhase("vertices");
+    beginPhase("vertices");
     // --texel-tolerance 0 (the reference preset) reads every vertex and texel with the exhaustive gather.
     ReadoutOptions readout = options.readout;
     if (!(options.lightmaps.texel_tolerance > 0.0)) readout.gather = GatherMode::Exhaustive;
@@ -200,7 +209,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     if (stopped()) return;
 
     if (charts) {
-        progress.beginPhase("lightmaps");
+        beginPhase("lightmaps");
         const LightmapOptions used = charts->options;
         BakedLightmaps baked;
         const bool baked_ok =
@@ -219,13 +228,13 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     }
 
     if (options.probes) {
-        progress.beginPhase("probes");
+        beginPhase("probes");
         out.probe_irradiance =
             evaluateProbes(*out.solution, readout, *options.probes, metres_per_unit, runner, progress);
         if (stopped()) return;
     }
     if (options.preview) {
-        progress.beginPhase("preview");
+        beginPhase("preview");
         renderPreviews(out, runner, diagnostics);
         if (stopped()) return;
     }
@@ -237,24 +246,60 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     out.status = BakeStatus::Ok;
 }
 
+// The located error for an allocation failure or a budget overrun at the library's boundary.
+void reportMemory(const std::string& scene_path, const std::string& phase, const MemoryBudgetExceeded* over,
+                  Diagnostics& diagnostics) {
+    const std::string during = phase.empty() ? "baking" : "in the " + phase + " phase";
+    if (!over) {
+        diagnostics.error({scene_path, 0, 0}, outOfMemoryMessage(during));
+        return;
+    }
+    char message[256];
+    std::snprintf(message, sizeof message,
+                  "the bake stopped %s: it holds %.0f MiB, above its memory budget of %.0f MiB (--max-memory; "
+                  "default 3/4 of this machine's memory)",
+                  during.c_str(), over->used_mb, over->budget_mb);
+    diagnostics.error({scene_path, 0, 0}, message);
+}
+
 Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progress& progress,
                Diagnostics& diagnostics) {
     Bake out;
-    out.options = options;
     out.scene = std::move(scene);
-    addBackTwins(*out.scene);  // before every stage: each side of a two-sided mesh is a mesh of its own
-    fillSceneReport(*out.scene, out);
+    const std::string scene_path = out.scene->source_path;
     try {
+        out.options = options;
+        addBackTwins(*out.scene);  // before every stage: each side of a two-sided mesh is a mesh of its own
+        fillSceneReport(*out.scene, out);
         bakeStages(out, progress, diagnostics);
+    } catch (const std::bad_alloc&) {
+        reportMemory(scene_path, progress.currentPhase(), nullptr, diagnostics);
+        out.status = BakeStatus::InputError;
+    } catch (const MemoryBudgetExceeded& e) {
+        reportMemory(scene_path, progress.currentPhase(), &e, diagnostics);
+        out.status = BakeStatus::InputError;
     } catch (const std::exception& e) {
-        diagnostics.error({out.scene->source_path, 0, 0}, std::string("bake failed: ") + e.what());
+        diagnostics.error({scene_path, 0, 0}, std::string("bake failed: ") + e.what());
         out.status = BakeStatus::InputError;
     } catch (...) {
-        diagnostics.error({out.scene->source_path, 0, 0}, "bake failed (unknown error)");
+        diagnostics.error({scene_path, 0, 0}, "bake failed (unknown error)");
         out.status = BakeStatus::InputError;
     }
     if (out.status == BakeStatus::Ok && progress.cancelled()) out.status = BakeStatus::Cancelled;
     return out;
+}
+
+// Hands a scene to bakeOwned; an allocation failing on the way is reported, not thrown.
+Bake bakeScene(Scene&& scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+    const std::string scene_path = scene.source_path;
+    try {
+        return bakeOwned(std::make_unique<Scene>(std::move(scene)), options, progress, diagnostics);
+    } catch (const std::bad_alloc&) {
+        reportMemory(scene_path, progress.currentPhase(), nullptr, diagnostics);
+    }
+    Bake failed;
+    failed.status = BakeStatus::InputError;
+    return failed;
 }
 
 }  // namespace
@@ -270,20 +315,22 @@ const char* toString(BakeStatus status) {
 
 Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
     progress.beginPhase("import");
-    std::optional<Scene> scene = importScene(path, options.import, diagnostics);
+    ImportOptions import = options.import;
+    if (!(import.max_memory_mb > 0.0)) import.max_memory_mb = options.solver.max_memory_mb;  // one budget
+    std::optional<Scene> scene = importScene(path, import, diagnostics);  // reports, never throws
     if (!scene) {
         Bake failed;
         failed.options = options;
         failed.status = progress.cancelled() ? BakeStatus::Cancelled : BakeStatus::InputError;
         return failed;
     }
-    return bakeOwned(std::make_unique<Scene>(std::move(*scene)), options, progress, diagnostics);
+    return bakeScene(std::move(*scene), options, progress, diagnostics);
 }
 
 Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
     BakeOptions in_metres = options;
     in_metres.import = ImportOptions{};  // a scene in memory is in metres already
-    return bakeOwned(std::make_unique<Scene>(std::move(scene)), in_metres, progress, diagnostics);
+    return bakeScene(std::move(scene), in_metres, progress, diagnostics);
 }
 
 }  // namespace radbake

@@ -3,10 +3,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/memory.h"
 #include "export/exr_io.h"
 #include "export/gltf_writer.h"
 #include "export/lightmap_png.h"
@@ -154,7 +156,26 @@ bool claimOutputFolder(OutputTransaction& transaction, const std::string& scene_
     return true;
 }
 
+namespace {
+
+bool commitStaged(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics, WrittenBake* written);
+
+}  // namespace
+
 bool commitBake(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics, WrittenBake* written) {
+    // An allocation failing while encoding is reported; the transaction removes what was staged.
+    try {
+        return commitStaged(bake, transaction, diagnostics, written);
+    } catch (const std::bad_alloc&) {
+        diagnostics.error({transaction.outDir().string(), 0, 0}, outOfMemoryMessage("writing the outputs") +
+                                                                     "; nothing written");
+    }
+    return false;
+}
+
+namespace {
+
+bool commitStaged(const Bake& bake, OutputTransaction& transaction, Diagnostics& diagnostics, WrittenBake* written) {
     if (!bake.ok() || !bake.scene) {
         diagnostics.error({transaction.outDir().string(), 0, 0},
                           std::string("nothing written: the bake did not succeed (") + toString(bake.status) + ")");
@@ -183,6 +204,8 @@ bool commitBake(const Bake& bake, OutputTransaction& transaction, Diagnostics& d
     if (written) *written = WrittenBake{.files = transaction.staged(), .changed = transaction.changedCount()};
     return true;
 }
+
+}  // namespace
 
 bool writeBake(const Bake& bake, const std::filesystem::path& out_dir, Diagnostics& diagnostics,
                WrittenBake* written) {

@@ -2,6 +2,7 @@
 // thrown below escapes (reported to Diagnostics instead).
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "core/memory.h"
@@ -162,6 +163,8 @@ std::optional<Solution> solveRadiosity(const Scene& scene, const PartSet& parts,
                       "--error-threshold, or give --max-memory",
                       e.during.c_str(), e.used_mb, e.budget_mb);
         diagnostics.error({scene.source_path, 0, 0}, message);
+    } catch (const std::bad_alloc&) {
+        diagnostics.error({scene.source_path, 0, 0}, outOfMemoryMessage("solving the radiosity"));
     } catch (const std::exception& e) {
         diagnostics.error({scene.source_path, 0, 0}, std::string("radiosity solve failed: ") + e.what());
     } catch (...) {

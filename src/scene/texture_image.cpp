@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "core/memory.h"
 #include "core/read_policy.h"
 #include "core/regular_file.h"
 
@@ -62,16 +63,25 @@ private:
 
 std::string failure(const char* fallback) { return stbi_failure_reason() ? stbi_failure_reason() : fallback; }
 
-// The decompression cap: a small file may declare a huge image, refused before it is decoded.
-bool decodedFits(int width, int height, int channels, size_t bytes_per_value, std::string& error) {
-    const double bytes = static_cast<double>(width) * height * channels * static_cast<double>(bytes_per_value);
-    if (bytes <= static_cast<double>(kDefaultMaxInputBytes)) return true;
-    error = "a " + std::to_string(width) + " x " + std::to_string(height) + " image decodes to " +
-            largerThan(kDefaultMaxInputBytes);
+}  // namespace
+
+bool textureDecodeFits(int width, int height, int channels, double bytes_per_value, double max_memory_mb,
+                       std::string& error) {
+    const double pixels = static_cast<double>(width) * static_cast<double>(height);
+    // The decoder's buffer (up to 16 bits a value, and its inflate scratch) besides ours.
+    const double bytes = pixels * std::max(channels, 1) * (bytes_per_value + 2.0 * sizeof(uint16_t));
+    const double budget_mb = memoryBudgetMegabytes(max_memory_mb);
+    const std::string size = "a " + std::to_string(width) + " x " + std::to_string(height) + " image";
+    if (pixels > kMaxTexturePixels && !(max_memory_mb > 0.0)) {
+        error = size + " has more than " + std::to_string(static_cast<long long>(kMaxTexturePixels)) +
+                " pixels (give --max-memory to allow more)";
+        return false;
+    }
+    if (fitsMemoryBudget(budget_mb, bytes)) return true;
+    error = size + " decodes to about " + bytesText(bytes) + ", more than the memory budget of " +
+            bytesText(budget_mb * 1048576.0) + " leaves (--max-memory)";
     return false;
 }
-
-}  // namespace
 
 float srgbToLinear(float encoded) {
     return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
@@ -93,7 +103,8 @@ Vec4 TextureImage::texel(int64_t x, int64_t y) const {
     }
 }
 
-std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error) {
+std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error,
+                                             double max_memory_mb, bool* too_large) {
     const ImageSource source(texture, error);
     if (!source.opened()) return std::nullopt;
     TextureImage image;
@@ -102,7 +113,10 @@ std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srg
         error = failure("unknown image format");
         return std::nullopt;
     }
-    if (!decodedFits(image.width, image.height, std::max(channels, 1), sizeof(float), error)) return std::nullopt;
+    if (!textureDecodeFits(image.width, image.height, channels, sizeof(float), max_memory_mb, error)) {
+        if (too_large) *too_large = true;
+        return std::nullopt;
+    }
     image.channels = channels;
     const size_t count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * static_cast<size_t>(channels);
     const bool alpha = channels == 2 || channels == 4;
@@ -158,7 +172,7 @@ bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vec
         error = failure("unknown image format");
         return false;
     }
-    if (!decodedFits(width, height, 4, 1, error)) return false;
+    if (!textureDecodeFits(width, height, 4, 1.0, 0.0, error)) return false;
     std::unique_ptr<stbi_uc, void (*)(void*)> data(source.load8(&width, &height, &channels, 4), stbi_image_free);
     if (!data) {
         error = failure("cannot decode");

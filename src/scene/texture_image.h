@@ -23,11 +23,23 @@ struct TextureImage {
     bool hasAlpha() const { return channels == 2 || channels == 4; }
 };
 
+// Pixels a decoded texture may have unless --max-memory was given and holds more.
+inline constexpr double kMaxTexturePixels = 64.0 * 1024.0 * 1024.0;
+
+// Whether a width x height image of `channels` may be decoded into `bytes_per_value` values:
+// at most kMaxTexturePixels unless `max_memory_mb` (--max-memory; 0: the default budget, 3/4
+// of the machine) is given, and never more than the budget leaves now. Checked from the
+// header (stbi_info), before any pixel is decoded; otherwise `error` says why.
+bool textureDecodeFits(int width, int height, int channels, double bytes_per_value, double max_memory_mb,
+                       std::string& error);
+
 // Decodes an image into linear values: 8- and 16-bit colour channels are decoded from sRGB
 // when `srgb` (colour textures; normal maps are data), HDR files are linear already; alpha
 // is never sRGB. nullopt with `error` set when the file cannot be read or decoded.
 // The image is the file at texture.path, or texture.embedded when set.
-std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error);
+// Refused by textureDecodeFits: `too_large` (when given) is set.
+std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error,
+                                             double max_memory_mb = 0.0, bool* too_large = nullptr);
 
 // The image as 8-bit RGBA bytes as stored (no colour conversion; HDR is mapped by stb_image's
 // default 1/2.2 gamma), for re-encoding to PNG. False with `error` set when it cannot be read.

@@ -166,9 +166,16 @@ void refuseTextures(Scene& scene, const ReadPolicy& policy, Diagnostics& diagnos
     }
 }
 
+// Removes every use of the texture at `path`: it is never decoded or embedded.
+void dropTexture(Scene& scene, const std::string& path) {
+    for (Material& material : scene.materials)
+        for (TextureRef* ref : {&material.base_color_texture, &material.emissive_texture, &material.normal_texture})
+            if (ref->path == path) *ref = TextureRef{};
+}
+
 }  // namespace
 
-void applyTextures(Scene& scene, const ReadPolicy& policy, Diagnostics& diagnostics) {
+void applyTextures(Scene& scene, const ReadPolicy& policy, double max_memory_mb, Diagnostics& diagnostics) {
     refuseTextures(scene, policy, diagnostics);
     // Every texture once, in the order materials name them.
     std::vector<std::pair<std::string, Role>> images;
@@ -190,12 +197,14 @@ void applyTextures(Scene& scene, const ReadPolicy& policy, Diagnostics& diagnost
         if (failed.count(path)) continue;
         std::string error;
         const TextureRef& ref = first_named[path];
-        const std::optional<TextureImage> image = readTextureImage(ref, true, error);
+        bool too_large = false;
+        const std::optional<TextureImage> image = readTextureImage(ref, true, error, max_memory_mb, &too_large);
         if (!image) {
             // A missing file, a FIFO or a directory alike: warned, and the bake goes on.
             diagnostics.warning(ref.location,
                                 "cannot read texture '" + path + "' (" + error + "); the material's own colour is used");
             failed.insert(path);
+            if (too_large) dropTexture(scene, path);
             continue;
         }
         applyImage(scene, path, role, *image, diagnostics);

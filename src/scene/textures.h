@@ -19,6 +19,9 @@ namespace radbake {
 // A texture file `policy` refuses (outside the read roots, not a regular file) is one located
 // warning naming it, noted in Scene::refused_inputs and dropped from its materials, unread.
 // importScene calls it before validation, which clamps the values.
-void applyTextures(Scene& scene, const ReadPolicy& policy, Diagnostics& diagnostics);
+// A texture larger than --max-memory allows (`max_memory_mb`, texture_image.h's
+// textureDecodeFits) is refused from its header: warned, dropped from its materials (never
+// decoded, nor embedded in the glb), as a missing one.
+void applyTextures(Scene& scene, const ReadPolicy& policy, double max_memory_mb, Diagnostics& diagnostics);
 
 }  // namespace radbake

@@ -352,7 +352,7 @@ void reportCleanup(const Mesh& mesh, size_t index, const CleanupCounts& counts, 
 
 }  // namespace
 
-bool validateScene(Scene& scene, Diagnostics& diagnostics) {
+bool validateScene(Scene& scene, Diagnostics& diagnostics, double max_memory_mb) {
     bool ok = true;
     std::vector<bool> factor_only(scene.materials.size(), false);
     for (const Mesh& mesh : scene.meshes)
@@ -382,6 +382,7 @@ bool validateScene(Scene& scene, Diagnostics& diagnostics) {
         diagnostics.warning({scene.source_path, 0, 0}, std::to_string(removed) + " empty mesh(es) removed");
     if (scene.meshes.empty()) diagnostics.warning({scene.source_path, 0, 0}, "the scene has no surfaces");
 
+    if (!validation::overlapCheckFits(scene, max_memory_mb, diagnostics)) return false;
     validation::reportCoplanarOverlaps(scene.meshes, diagnostics);
     return !diagnostics.hasErrors();
 }

@@ -19,6 +19,7 @@
 
 #include "scene/validate_overlap.h"
 
+#include "core/memory.h"
 #include "scene/coplanar.h"
 
 namespace radbake::validation {
@@ -42,6 +43,15 @@ constexpr size_t kMaxOverlapWarnings = 20;
 constexpr size_t kBruteForceGroup = 24;
 // A triangle covering more grid cells than this is compared with the whole group instead.
 constexpr int64_t kMaxCellsPerTriangle = 64;
+// Bounds on the pairwise work: real scenes examine a few pairs per triangle and keep few
+// overlaps; faces stacked by the thousand in one plane make both quadratic.
+constexpr size_t kPairsPerTriangle = 16;
+constexpr size_t kMinPairBound = size_t{1} << 22;
+constexpr size_t kMaxOverlaps = size_t{1} << 20;
+// Scratch per triangle (its plane-cell entries, sorted through a second buffer, its home cell
+// and size) and per polygon (its area), for the budget check.
+constexpr double kBytesPerTriangle = 2 * 2 * sizeof(uint64_t) + sizeof(uint32_t) + sizeof(float);
+constexpr double kBytesPerPolygon = sizeof(double);
 
 struct PlaneKey {
     int64_t nx, ny, nz, d;
@@ -178,13 +188,14 @@ public:
     OverlapFinder(const std::vector<Mesh>& meshes, double extent)
         : meshes_(meshes), layout_(layoutOf(meshes)) {
         tolerance_ = std::max(kCoplanarRelativeTolerance * extent, std::numeric_limits<double>::min());
+        max_pairs_ = std::max(kMinPairBound, kPairsPerTriangle * layout_.first_triangle.back());
     }
 
     void run() {
         std::vector<uint64_t> entries = fileTriangles();
         radixSortByHigh32(entries);
         std::vector<uint32_t> group;
-        for (size_t begin = 0; begin < entries.size();) {
+        for (size_t begin = 0; begin < entries.size() && !stopped_;) {
             const uint32_t hash = static_cast<uint32_t>(entries[begin] >> 32);
             size_t end = begin + 1;
             while (end < entries.size() && static_cast<uint32_t>(entries[end] >> 32) == hash) ++end;
@@ -203,6 +214,8 @@ public:
     const std::unordered_map<uint64_t, Overlap>& overlaps() const { return overlaps_; }
     const std::vector<double>& polygonAreas() const { return polygon_area_; }
     const Layout& layout() const { return layout_; }
+    bool stopped() const { return stopped_; }
+    size_t pairsExamined() const { return pairs_; }
 
 private:
     // Files every triangle under the hash of each plane cell its tolerance box reaches, and
@@ -308,7 +321,7 @@ private:
             m.hi = glm::max(a, glm::max(b, c));
         }
         if (members_.size() <= kBruteForceGroup) {
-            for (size_t i = 0; i < members_.size(); ++i)
+            for (size_t i = 0; i < members_.size() && !stopped_; ++i)
                 for (size_t j = i + 1; j < members_.size(); ++j)
                     if (boxesOverlap(members_[i], members_[j])) examinePair(members_[i], members_[j], hash);
             return;
@@ -369,7 +382,7 @@ private:
         for (int64_t y = 0; y < ny; ++y)
             for (int64_t x = 0; x < nx; ++x) {
                 const size_t c = static_cast<size_t>(y * nx + x);
-                for (size_t i = cell_start_[c]; i < cell_start_[c + 1]; ++i)
+                for (size_t i = cell_start_[c]; i < cell_start_[c + 1] && !stopped_; ++i)
                     for (size_t j = i + 1; j < cell_start_[c + 1]; ++j) {
                         const Member& a = members_[cell_members_[i]];
                         const Member& b = members_[cell_members_[j]];
@@ -379,7 +392,7 @@ private:
                     }
             }
         for (uint32_t b : big_)
-            for (uint32_t i = 0; i < n; ++i)
+            for (uint32_t i = 0; i < n && !stopped_; ++i)
                 if (i != b && !(is_big[i] && i < b) && boxesOverlap(members_[i], members_[b]))
                     examinePair(members_[i], members_[b], hash);
     }
@@ -388,6 +401,11 @@ private:
     // triangles' intersection in their common plane.
     void examinePair(const Member& a, const Member& b, uint32_t hash) {
         if (home_[owner(a.triangle, b.triangle)] != hash) return;  // examined in another cell
+        if (stopped_) return;
+        if (++pairs_ > max_pairs_ || overlaps_.size() >= kMaxOverlaps) {
+            stopped_ = true;
+            return;
+        }
         if (a.polygon == b.polygon) return;
         if (glm::dot(a.normal, b.normal) <= 0.0) return;  // back to back: a thin wall
         const DVec3 dn = glm::abs(a.normal - b.normal);
@@ -457,6 +475,8 @@ private:
     std::vector<float> size_;     // per triangle: longest edge
     std::vector<double> polygon_area_;
     std::unordered_map<uint64_t, Overlap> overlaps_;  // (polygon, polygon) -> overlap
+    size_t pairs_ = 0, max_pairs_ = 0;
+    bool stopped_ = false;  // a bound was reached: what was found so far is reported
     // Scratch reused across groups.
     std::vector<Member> members_;
     std::vector<double> sizes_;
@@ -483,9 +503,31 @@ struct MeshPairReport {
 
 }  // namespace
 
+bool overlapCheckFits(const Scene& scene, double max_memory_mb, Diagnostics& diagnostics) {
+    double triangles = 0.0, polygons = 0.0;
+    for (const Mesh& mesh : scene.meshes) {
+        triangles += static_cast<double>(mesh.triangles.size());
+        polygons += static_cast<double>(mesh.polygon_count);
+    }
+    const double bytes = triangles * kBytesPerTriangle + polygons * kBytesPerPolygon;
+    if (fitsMemoryBudget(max_memory_mb, bytes)) return true;
+    char message[256];
+    std::snprintf(message, sizeof message,
+                  "validating the scene's %.0f triangles needs about %s more, above the memory budget of %s "
+                  "(--max-memory)",
+                  triangles, bytesText(bytes).c_str(), bytesText(max_memory_mb * 1048576.0).c_str());
+    diagnostics.error({scene.source_path, 0, 0}, message);
+    return false;
+}
+
 void reportCoplanarOverlaps(const std::vector<Mesh>& meshes, Diagnostics& diagnostics) {
     OverlapFinder finder(meshes, sceneExtent(meshes));
     finder.run();
+    if (finder.stopped() && !meshes.empty())
+        diagnostics.note(meshes.front().location,
+                         "the coplanar overlap check stopped after " + std::to_string(finder.pairsExamined()) +
+                             " face pairs (faces stacked on each other in one plane); overlaps after that are "
+                             "not reported");
     const Layout& layout = finder.layout();
     const std::vector<double>& areas = finder.polygonAreas();
     std::map<std::pair<size_t, size_t>, MeshPairReport> reports;

@@ -85,6 +85,16 @@ uint32_t Vrml1Parser::sceneMaterial(const Vrml1State& state, uint32_t index) {
 void Vrml1Parser::emitShape(const Vrml1Shape& shape, const Vrml1State& state, const std::string& name,
                             const SourceLocation& where) {
     const std::vector<Vec3>& positions = *shape.positions;
+    // Asked of the budget before it is built: USE re-reads can repeat a shape many times.
+    const double bytes = meshBytesEstimate(double(positions.size()), double(shape.triangles.size()));
+    if (options_.memory && !options_.memory->reserve(bytes)) {
+        if (!failed_)
+            diagnostics_.error(where, "the scene's meshes outgrow the memory budget at this " + name + " (" +
+                                          std::to_string(scene_.meshes.size()) + " meshes so far; --max-memory " +
+                                          bytesText(options_.memory->budgetMegabytes() * 1048576.0) + ")");
+        failed_ = true;
+        return;
+    }
     // Triangles grouped by material, keeping file order inside a group (so each polygon's
     // triangles stay together): one mesh per material.
     std::vector<uint32_t> order(shape.triangles.size());

@@ -35,6 +35,7 @@ Vrml97Builder::Vrml97Builder(std::string path, const VrmlOptions& options, std::
 bool Vrml97Builder::build(const std::vector<NodePtr>& roots) {
     const int errors_before = diagnostics_.errorCount();
     for (const Mesh& mesh : scene_.meshes) triangles_ += mesh.triangles.size();
+    if (!expansionFits(roots)) return false;
     openLightScope();  // the file is a group of its top-level nodes (an Inline's children)
     for (const NodePtr& root : roots) visit(root, DMat4(1.0), 0);
     closeLightScope();
@@ -319,6 +320,7 @@ void Vrml97Builder::finishMesh(Mesh mesh, const Node& geometry, const DMat4& m) 
         abort(geometry.location, "the scene has more than " + std::to_string(vrml97Limits().max_triangles) + " triangles");
         return;
     }
+    if (!reserveMesh(mesh, geometry)) return;
     mesh.location = geometry.location;
     mesh.name = !geometry.name.empty() ? geometry.name : geometry.type;
     const size_t first = scene_.meshes.size();

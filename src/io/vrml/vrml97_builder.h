@@ -46,6 +46,23 @@ private:
     bool elevationGrid(const Node& node, Mesh& mesh);
     bool extrusion(const Node& node, Mesh& mesh);
 
+    // Memory (vrml97_budget.cpp): what the graph below a node expands to once every USE and
+    // PROTO is expanded, estimated before anything is built.
+    struct Expansion {
+        double meshes = 0.0, triangles = 0.0, bytes = 0.0;
+        void add(const Expansion& e) {
+            meshes += e.meshes;
+            triangles += e.triangles;
+            bytes += e.bytes;
+        }
+    };
+    bool expansionFits(const std::vector<NodePtr>& roots);
+    Expansion expansionOf(const NodePtr& node, int depth);
+    Expansion geometryExpansion(const Node& geometry) const;
+    std::vector<NodePtr> expandedChildren(const Node& node) const;
+    void reportExpansion(const std::vector<NodePtr>& roots, const std::vector<Expansion>& sizes);
+    bool reserveMesh(const Mesh& mesh, const Node& geometry);
+
     // Field access that tolerates missing fields and mismatched IS bindings.
     float sfFloat(const Node& node, std::string_view name, float fallback) const;
     bool sfBool(const Node& node, std::string_view name, bool fallback) const;
@@ -70,6 +87,7 @@ private:
     size_t triangles_ = 0;  // in the scene, for the size limit
     size_t expanded_nodes_ = 0;
     bool aborted_ = false;
+    std::unordered_map<const Node*, Expansion> expansions_;  // resolved node -> what it expands to
     std::vector<uint32_t> loop_;  // scratch polygon
     // Per open grouping node (and the file's top level): the meshes it started at and its
     // DirectionalLights, which light only its children (ISO/IEC 14772-1, DirectionalLight).
