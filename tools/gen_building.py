@@ -2,6 +2,7 @@
 """Writes a generated building (issue 11's growth yardstick) as VRML97.
 
     python3 tools/gen_building.py OUT.wrl --rooms NX NY [--panels K] [--boxes B] [--seed S]
+                                  [--lamps all|one|none]
 
 A grid of NX x NY rooms (NX along x, NY along z, y up; each 4 m x 4 m, 3 m high; walls 0.2 m
 thick), every pair of neighbouring rooms joined by a doorway (1 m x 2.1 m, through the wall:
@@ -13,7 +14,8 @@ each about 4/K m wide, so the count stays close to K x K); under each ceiling a 
 B boxes (default 3; 5 faces each, no bottom, randomly sized and turned about y, placed clear of
 each other and of the doorways), their faces ceil(K/4) quads a side. Each face has its own
 vertices (none shared across an edge). Surfaces are one-sided (`solid TRUE`, the default) and
-flat (`creaseAngle 0`).
+flat (`creaseAngle 0`). --lamps one lights the first room's lamp only and --lamps none no lamp
+(the others stay as white unlit fixtures): the scenes where the cost must follow the light.
 
 Prints the counts; the triangle count is twice the quad count (the readers split every
 planar quad into two triangles). The arguments used for the scale yardsticks (docs/scale.md):
@@ -221,14 +223,18 @@ def main(argv):
     p.add_argument("--panels", type=int, default=4, metavar="K", help="quads a side on every wall, floor and ceiling")
     p.add_argument("--boxes", type=int, default=3, metavar="B", help="boxes per room")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--lamps", choices=("all", "one", "none"), default="all",
+                   help="which rooms' lamps emit: all (default), the first room's only, or none (the lamps "
+                        "stay, as white unlit fixtures)")
     args = p.parse_args(argv[1:])
     nx, nz = args.rooms
     if nx < 1 or nz < 1 or args.panels < 1 or args.boxes < 0:
         p.error("--rooms needs two counts >= 1, --panels >= 1, --boxes >= 0")
     shells, lamps, boxes = build(nx, nz, args.panels, args.boxes, args.seed)
+    lamps_arg = "" if args.lamps == "all" else " --lamps " + args.lamps
     out = ["#VRML V2.0 utf8\n",
-           "# generated building: tools/gen_building.py --rooms %d %d --panels %d --boxes %d --seed %d\n" % (
-               nx, nz, args.panels, args.boxes, args.seed),
+           "# generated building: tools/gen_building.py --rooms %d %d --panels %d --boxes %d --seed %d%s\n" % (
+               nx, nz, args.panels, args.boxes, args.seed, lamps_arg),
            "WorldInfo { title \"building %dx%d rooms, %d panels\" }\n" % (nx, nz, args.panels),
            # From inside the first room, looking towards the far corner.
            "Viewpoint { position 0.4 1.6 0.4 orientation 0 1 0 -2.356 description \"room 0\" }\n"]
@@ -236,8 +242,14 @@ def main(argv):
     for index, shell in enumerate(shells):
         write_ifs(out, shell, "DEF WALL Appearance { material Material { diffuseColor 0.7 0.7 0.7 } }"
                   if index == 0 else "USE WALL")
-        write_ifs(out, lamps[index], "DEF LAMP Appearance { material Material { diffuseColor 0 0 0 emissiveColor 1 1 1 } }"
-                  if index == 0 else "USE LAMP")
+        lit = args.lamps == "all" or (args.lamps == "one" and index == 0)
+        if lit:
+            write_ifs(out, lamps[index], "DEF LAMP Appearance { material Material { diffuseColor 0 0 0 emissiveColor 1 1 1 } }"
+                      if index == 0 else "USE LAMP")
+        else:
+            first_unlit = index == (1 if args.lamps == "one" else 0)
+            write_ifs(out, lamps[index], "DEF UNLIT Appearance { material Material { diffuseColor 0.8 0.8 0.8 } }"
+                      if first_unlit else "USE UNLIT")
         room_boxes, colour = boxes[index]
         if room_boxes.quads:
             write_ifs(out, room_boxes, "Appearance { material Material { diffuseColor %s %s %s } }" % tuple(fmt(c) for c in colour))

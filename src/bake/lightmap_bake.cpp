@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "bake/lightmap_adaptive.h"
@@ -78,7 +79,12 @@ double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, s
     const DVec2 hi = lo + DVec2(size);
     double best = 0.0, covered = 0.0;
     for (size_t f = 0; f < chart.faces.size(); ++f) {
-        const std::vector<DVec2> piece = clipToRectangle(chart.faces[f].p_plane, lo, hi);
+        // Most of a big chart's faces are nowhere near the texel: a box test before the clip.
+        const std::vector<DVec2>& loop = chart.faces[f].p_plane;
+        DVec2 face_lo(std::numeric_limits<double>::max()), face_hi(-std::numeric_limits<double>::max());
+        for (const DVec2& p : loop) face_lo = glm::min(face_lo, p), face_hi = glm::max(face_hi, p);
+        if (face_lo.x > hi.x || face_lo.y > hi.y || face_hi.x < lo.x || face_hi.y < lo.y) continue;
+        const std::vector<DVec2> piece = clipToRectangle(loop, lo, hi);
         if (piece.empty()) continue;
         const double area = polygonArea(piece);
         covered += std::max(area, 0.0);
@@ -173,14 +179,17 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOp
     LightmapLayout layout;
     if (!packLightmapCharts(std::move(charts.charts), options, layout, diagnostics)) return false;
     std::optional<LinkReconstruction> links;
-    if (readout.gather == GatherMode::Links) links.emplace(solution, readout, runner);
+    // A scene without light reads 0 everywhere: no gather, and no hidden texel to fill.
+    const bool lit = carriesLight(solution);
+    if (lit && readout.gather == GatherMode::Links) links.emplace(solution, readout, runner);
     const IrradianceFunction irradiance = [&](const SurfacePoint& at) {
+        if (!lit) return DVec3(0.0);
         return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world,
                                          LinkReconstruction::Reading::Texel)
                      : probeIrradiance(solution, readout, at.p_world, at.normal_world, at.mesh);
     };
     const HiddenTest hidden = [&](const SurfacePoint& at) {
-        return solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);
+        return lit && solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);
     };
     lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance,
                                   progress, hidden);

@@ -52,7 +52,8 @@ LightmapOptions lightmapOptions(const LightmapSettings& settings) {
 std::vector<DVec3> evaluateProbes(const Solution& solution, const ReadoutOptions& readout,
                                   const std::vector<Probe>& probes, double metres_per_unit, ParallelRunner& runner,
                                   Progress& progress) {
-    std::vector<DVec3> irradiance(probes.size());
+    std::vector<DVec3> irradiance(probes.size(), DVec3(0.0));
+    if (!carriesLight(solution)) return irradiance;
     std::atomic<size_t> done{0};
     runner.forEach(probes.size(), 4, [&](size_t i) {
         irradiance[i] = probeIrradiance(solution, readout, probes[i].position * metres_per_unit, probes[i].normal);

@@ -402,9 +402,11 @@ double ClusterRefiner::minDistance(uint32_t a, uint32_t b) const {
 
 double ClusterRefiner::irradianceBound(uint32_t receiver, uint32_t source) const {
     const Solution& s = state_.solution;
+    const double power = node_power_[keyOf(s, source)];
+    if (!(power > 0.0)) return 0.0;
     const double d = minDistance(receiver, source);
     if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
-    return node_power_[keyOf(s, source)] / (kPi * d * d);
+    return power / (kPi * d * d);
 }
 
 double ClusterRefiner::bound(uint32_t receiver, uint32_t source) const {
@@ -481,6 +483,14 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
     auto evaluate = [&](const PendingClusterLink& link) {
         ClusterEvaluation ev;
         ev.list = link.candidates;
+        if (!(node_power_[keyOf(s, link.source)] > 0.0)) {
+            // A dark source (no light yet: the first round knows emission only) is deferred,
+            // carrying nothing, until a solve lights it, even where the ends touch: a room no
+            // light reaches then costs no link, shaft or ray, and a scene without light none.
+            ev.decision = Decision::Keep;
+            ev.visibility = kDeferred;
+            return ev;
+        }
         if (link.receiver == link.source) {
             ev.decision = Decision::Split;
             return ev;
@@ -498,10 +508,8 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         const double error = bound(r_node, s_node);
         const bool split = error > node_threshold_[keyOf(s, r_node)];
         if (!split && !(error > 0.0)) {
-            // A dark source (no light yet: the first round knows emission only) is deferred, carrying nothing, until
-            // a solve lights it: a room no light reaches then costs no rays (and no shaft).
-            ev.decision = Decision::Keep;
-            ev.visibility = node_power_[keyOf(s, s_node)] > 0.0 ? 0.0f : kDeferred;
+            ev.decision = Decision::Keep;  // a receiver without area or reflectance
+            ev.visibility = 0.0f;
             return ev;
         }
         bool visible = link.candidates == kNoList;
@@ -826,6 +834,11 @@ void forEachClusterExchange(const Solution& s, const std::function<void(uint32_t
         for (uint32_t k = rm.first; k < rm.first + rm.count; ++k)
             if (receiverCosine(s.elements[s.cluster_members[k]], c_s, c_r) > 0.0) add(s.cluster_members[k]);
     }
+}
+
+void dropDeferredClusterLinks(Solution& s) {
+    // A deferred link holds no kernel: removing it moves no kernel block.
+    s.stats.dropped_links += std::erase_if(s.cluster_links, [](const ClusterLink& link) { return link.visibility < 0.0f; });
 }
 
 void groupClusterLinksByReceiver(Solution& s) {

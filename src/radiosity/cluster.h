@@ -50,7 +50,8 @@ public:
     bool hasDeferred() const;
 
     // The bound on the power a link may misplace (W, max channel), for tests: rho_R A_R
-    // Phi_S / (pi d_min^2), infinite when the nodes' boxes touch or overlap.
+    // Phi_S / (pi d_min^2), infinite when the nodes' boxes touch or overlap, 0 when the source
+    // has no light.
     double bound(uint32_t receiver, uint32_t source) const;
     // Upper bound on the irradiance any point of the receiver node can get from the source
     // node (W/m^2, max channel): Phi_S / (pi d_min^2).
@@ -83,6 +84,10 @@ private:
 // pairs to join every member that sends or receives light through it to one group), for
 // the light-exchange groups of RefineState::updateThresholds.
 void forEachClusterExchange(const Solution& solution, const std::function<void(uint32_t, uint32_t)>& join);
+
+// Removes the links still deferred when the solve ends (counted as dropped): their sources
+// never got light, so they carry nothing (a scene without light keeps no link at all).
+void dropDeferredClusterLinks(Solution& solution);
 
 // Sorts Solution::cluster_links by receiver node (roots first, then clusters; stable).
 void groupClusterLinksByReceiver(Solution& solution);

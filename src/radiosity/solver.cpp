@@ -1,5 +1,6 @@
 // solveRadiosity: roots, direct light, refine-solve rounds. The module boundary: nothing
 // thrown below escapes (reported to Diagnostics instead).
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -40,6 +41,12 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
     stopIfCancelled(runner);
     for (Element& e : s.elements) e.radiosity = e.emission;
     pullRadiosity(s);
+    if (std::none_of(s.elements.begin(), s.elements.end(), [](const Element& e) { return e.emission != DVec3(0.0); })) {
+        // Nothing emits and no punctual light reaches a surface: 0 everywhere, without a link.
+        s.stats.converged = true;
+        progress.endPhase();
+        return;
+    }
     // Clustering: links start at the top cluster (cluster.h); otherwise every facing pair.
     std::optional<ClusterRefiner> clusters;
     if (options.clustering && s.root_count > 1) {
@@ -98,6 +105,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         }
         if (pending.empty() && !clusters_changed) break;
     }
+    if (clusters) dropDeferredClusterLinks(s);
     progress.endPhase();
     if (s.stats.classify_fallbacks > 0)
         diagnostics.warning({scene.source_path, 0, 0},

@@ -170,7 +170,8 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, const Read
         }
     }
     std::optional<LinkReconstruction> links;
-    if (options.gather == GatherMode::Links) links.emplace(solution, options, runner);
+    const bool lit = carriesLight(solution);
+    if (lit && options.gather == GatherMode::Links) links.emplace(solution, options, runner);
     std::atomic<size_t> done{0};
     // Each welded point writes its own slot: the result does not depend on the thread count.
     runner.forRanges(points.size(), 16, [&](size_t begin, size_t end) {
@@ -178,8 +179,9 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, const Read
             WeldedPoint& point = points[k];
             point.groups = groupByNormal(point.faces);
             for (const Incident& g : point.groups)
-                point.h.push_back(links ? irradianceAt(solution, *links, point, g)
-                                        : probeIrradiance(solution, options, point.p, g.normal, g.mesh));
+                point.h.push_back(!lit   ? DVec3(0.0)
+                                  : links ? irradianceAt(solution, *links, point, g)
+                                          : probeIrradiance(solution, options, point.p, g.normal, g.mesh));
             if (links && options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
         }
         if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));

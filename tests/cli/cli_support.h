@@ -27,12 +27,8 @@ struct RunResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs `radbake ARGS` with stderr merged into stdout; ARGS is passed to the shell as is.
-// With `seconds`, a run that takes longer is killed (exit status 137): a hang fails the test
-// instead of stopping the suite.
-inline RunResult runRadbake(const std::string& args, int seconds = 0) {
-    const std::string limit = seconds > 0 ? "timeout -s KILL " + std::to_string(seconds) + " " : std::string();
-    const std::string command = limit + "'" + RADBAKE_EXE + "' " + args + " 2>&1";
+// Runs a shell command line, its output and exit status (-1: killed by a signal).
+inline RunResult runShell(const std::string& command) {
     RunResult result;
     std::FILE* pipe = popen(command.c_str(), "r");
     REQUIRE(pipe != nullptr);
@@ -42,6 +38,14 @@ inline RunResult runRadbake(const std::string& args, int seconds = 0) {
     const int status = pclose(pipe);
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;
+}
+
+// Runs `radbake ARGS` with stderr merged into stdout; ARGS is passed to the shell as is.
+// With `seconds`, a run that takes longer is killed (exit status 137): a hang fails the test
+// instead of stopping the suite.
+inline RunResult runRadbake(const std::string& args, int seconds = 0) {
+    const std::string limit = seconds > 0 ? "timeout -s KILL " + std::to_string(seconds) + " " : std::string();
+    return runShell(limit + "'" + RADBAKE_EXE + "' " + args + " 2>&1");
 }
 
 inline std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }

@@ -21,17 +21,8 @@ constexpr long kCapKib = 1000000;  // ulimit -v for runs that must not spend mem
 
 // `radbake ARGS` under `ulimit -v kib` (the shell fails, and so the test, when it cannot set it).
 RunResult runUnder(long kib, const std::string& args) {
-    const std::string command = "ulimit -v " + std::to_string(kib) + " && exec timeout -s KILL " +
-                                std::to_string(kSeconds) + " '" + RADBAKE_EXE + "' " + args + " 2>&1";
-    RunResult result;
-    std::FILE* pipe = popen(command.c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    char buffer[4096];
-    size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) result.output.append(buffer, n);
-    const int status = pclose(pipe);
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
+    return runShell("ulimit -v " + std::to_string(kib) + " && exec timeout -s KILL " + std::to_string(kSeconds) + " '" +
+                    RADBAKE_EXE + "' " + args + " 2>&1");
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }

@@ -107,6 +107,17 @@ int regionOf(const Element& e) {
     return 1;
 }
 
+// Calls f(root) for every root a link end (a cluster node or a root) holds.
+template <class F>
+void forMembers(const Solution& s, uint32_t node, F&& f) {
+    if (!(node & kClusterNode)) {
+        f(node);
+        return;
+    }
+    const Cluster& c = s.clusters[node & ~kClusterNode];
+    for (uint32_t k = 0; k < c.member_count; ++k) f(s.cluster_members[c.first_member + k]);
+}
+
 // Fraction of the ordered root pair (r, s) each link covers: a cluster link every member
 // pair once, an element link its share of the two roots' areas.
 std::map<std::pair<uint32_t, uint32_t>, double> coverage(const Solution& s) {
@@ -262,10 +273,16 @@ TEST_CASE("a closed dark room beside a bright one stays exactly black (clusters 
     CHECK(lit_a > 1.0);
     CHECK(dark > 100);
     CHECK(nonzero == 0);
-    // The dark room's links were never evaluated (deferred: their sources never had light).
-    size_t deferred = 0;
-    for (const ClusterLink& link : solution->cluster_links) deferred += link.visibility < 0.0f ? 1 : 0;
-    CHECK(deferred > 0);
+    // The dark room's links were never evaluated (deferred: their sources never had light) and
+    // none is kept: every link's source holds a root of the lit room.
+    size_t dark_sources = 0;
+    for (const ClusterLink& link : solution->cluster_links) {
+        bool lit_member = false;
+        forMembers(*solution, link.source, [&](uint32_t root) { lit_member |= regionOf(solution->elements[root]) == 0; });
+        dark_sources += lit_member ? 0 : 1;
+    }
+    CHECK(dark_sources == 0);
+    CHECK(solution->stats.dropped_links > 0);
     CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {1.5, 0.0, 1.5}, {0, 1, 0})
               .x == 0.0);
     CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(solution->options.quality), {1.5, 0.0, 1.5}, {0, 1, 0})
@@ -362,6 +379,8 @@ TEST_CASE("cluster and element links cover every ordered pair of facing, mutuall
             if (!facing(polygonOf(s, a), polygonOf(s, b))) continue;
             // A pair whose centroids see each other can be in no occluded link.
             if (s.rays->segmentBlocked(a.centroid, b.centroid)) continue;
+            // A source that never had light (inside the closet) is linked to nothing.
+            if (b.radiosity == DVec3(0.0)) continue;
             ++facing_pairs;
             const auto it = cover.find({r, e});
             if (it == cover.end() || std::abs(it->second - 1.0) > 1e-9) ++missing;
@@ -479,4 +498,31 @@ TEST_CASE("sparse pairwise kernels: every pair reads back its dense value, zeros
     for (uint32_t p = 0; p < full.size(); ++p) CHECK(pairKernelOf(s, lb, p) == double(full[p]));
     CHECK(s.cluster_kernel.size() == b + kernelFloats(kernelMask(s, lb)));
     CHECK(kernelFloats(kernelMask(s, lb)) == 2 + 4);
+}
+
+TEST_CASE("a scene without light keeps no link, casts no ray, and every reading is 0") {
+    Scene scene = twoRooms(true);
+    for (Material& m : scene.materials) m.emission = Vec3(0.0f);
+    Diagnostics diagnostics;
+    for (const bool clustering : {true, false}) {
+        CAPTURE(clustering);
+        SolverOptions options = medium();
+        options.clustering = clustering;
+        const auto solution = solve(scene, options, diagnostics, 2);
+        REQUIRE(solution);
+        CHECK_FALSE(carriesLight(*solution));
+        CHECK(solution->stats.links == 0);
+        CHECK(solution->stats.rays == 0);
+        CHECK(solution->stats.shafts == 0);
+        CHECK(solution->stats.converged);
+        for (const Element& e : solution->elements) CHECK(e.radiosity == DVec3(0.0));
+        CHECK(probeIrradiance(*solution, ReadoutOptions::forQuality(Quality::Medium), {0.5, 0.5, 1.5}, {0, 1, 0}) ==
+              DVec3(0.0));
+    }
+    // The lamp back on: light, links and rays.
+    const auto lit = solve(twoRooms(true), medium(), diagnostics, 2);
+    REQUIRE(lit);
+    CHECK(carriesLight(*lit));
+    CHECK(lit->stats.links > 0);
+    CHECK(lit->stats.rays > 0);
 }
