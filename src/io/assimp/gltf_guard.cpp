@@ -213,32 +213,36 @@ bool checkGlb(const std::string& path, const std::string& bytes, Diagnostics& di
     return checkJson(path, std::string_view(bytes).substr(20, length), 20, false, diagnostics);
 }
 
+// True when the stream starts like glb or JSON: '{' or '[' after any number of blanks (and a
+// UTF-8 byte-order mark, which some writers add), as Assimp's JSON parser skips them.
+bool looksLikeGltf(std::istream& in) {
+    char head[4] = {};
+    in.read(head, sizeof head);
+    if (in.gcount() == 4 && std::memcmp(head, "glTF", 4) == 0) return true;
+    in.clear();
+    in.seekg(std::memcmp(head, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0);
+    for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
+        if (c == '{' || c == '[') return true;
+        if (c != ' ' && c != '\t' && c != '\r' && c != '\n') return false;
+    }
+    return false;
+}
+
 }  // namespace
 
 bool checkGltfInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics) {
     std::ifstream in(path, std::ios::binary);
-    char head[4] = {};
-    in.read(head, sizeof head);
-    const bool glb = in.gcount() == 4 && std::memcmp(head, "glTF", 4) == 0;
-    in.clear();
-    in.seekg(0);
-    // JSON: '{' or '[' after blanks (and a UTF-8 byte-order mark, which some writers add).
-    std::string bytes(std::min<size_t>(max_bytes, 4096), '\0');
-    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    bytes.resize(static_cast<size_t>(in.gcount()));
-    size_t first = bytes.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
-    first = bytes.find_first_not_of(" \t\r\n", first);
-    const bool json = first != std::string::npos && (bytes[first] == '{' || bytes[first] == '[');
-    if (!glb && !json) return true;
+    if (!in || !looksLikeGltf(in)) return true;
     // The whole file, unless it is over the cap (the reader refuses it then).
     in.clear();
     in.seekg(0, std::ios::end);
     const std::streamoff size = in.tellg();
     if (size < 0 || static_cast<uint64_t>(size) > max_bytes) return true;
-    bytes.assign(static_cast<size_t>(size), '\0');
+    std::string bytes(static_cast<size_t>(size), '\0');
     in.seekg(0);
     in.read(bytes.data(), size);
     bytes.resize(static_cast<size_t>(in.gcount()));
+    const bool glb = bytes.compare(0, 4, "glTF") == 0;
     return glb ? checkGlb(path, bytes, diagnostics) : checkJson(path, bytes, 0, true, diagnostics);
 }
 
