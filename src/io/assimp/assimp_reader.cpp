@@ -26,6 +26,7 @@
 #include <string_view>
 
 #include "core/regular_file.h"
+#include "io/assimp/gltf_guard.h"
 #include "scene/triangulate.h"
 
 namespace radbake {
@@ -549,7 +550,7 @@ bool checkPlyHeader(const std::string& path, Diagnostics& diagnostics) {
 }
 
 bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& reads) {
-    if (!checkPlyHeader(path, diagnostics)) return false;
+    if (!checkPlyHeader(path, diagnostics) || !checkGltfInput(path, reads.policy->max_bytes, diagnostics)) return false;
     ScopedLogger logger(path, diagnostics);
     Assimp::Importer importer;
     importer.SetIOHandler(new RecordingIOSystem(path, reads, diagnostics));  // the importer owns it
