@@ -26,6 +26,10 @@ Solution& Solution::operator=(Solution&&) noexcept = default;
 
 namespace {
 
+// Deferred passes of the last round at most: light reaching new sources in the last of them
+// stays where it lands (their links are dropped, solver.cpp's end).
+constexpr int kLastRoundDeferredPasses = 3;
+
 // Thrown between phases once progress is cancelled; solveRadiosity returns nullopt for it.
 struct Cancelled {};
 
@@ -71,7 +75,10 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         result = solveHierarchy(s, runner, SolveStart::Emission, options.iteration_tolerance, options.max_iterations);
         stopIfCancelled(runner);
         s.stats.iterations += result.iterations;
-        if (clusters && clusters->hasDeferred()) {
+        // The last round repeats the deferred pass while it lights new sources (each pass
+        // carries light one more bounce: a block's shadowed side, the room past a doorway).
+        const int deferred_passes = round + 1 == rounds ? kLastRoundDeferredPasses : 1;
+        for (int pass = 0; pass < deferred_passes && clusters && clusters->hasDeferred(); ++pass) {
             // Cluster links deferred for want of light (the first round knows emission only)
             // are evaluated now that the solve has lit their sources, and solved once more,
             // before anything reads the solution's power or irradiance.
@@ -83,16 +90,14 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
             bool changed = false;
             progress.beginPhase("links" + suffix + " (deferred)");
             std::vector<PendingLink> deferred = clusters->reopen(progress, changed, true);
-            if (changed) {
-                refineLinks(state, std::move(deferred), progress);
-                computeDirectLight(state);
-                groupLinksByReceiver(s, &state.records);
-                groupClusterLinksByReceiver(s);
-                progress.beginPhase("solve" + suffix + " (deferred)");
-                result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance,
-                                        options.max_iterations);
-                s.stats.iterations += result.iterations;
-            }
+            if (!changed) break;
+            refineLinks(state, std::move(deferred), progress);
+            computeDirectLight(state);
+            groupLinksByReceiver(s, &state.records);
+            groupClusterLinksByReceiver(s);
+            progress.beginPhase("solve" + suffix + " (deferred)");
+            result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance, options.max_iterations);
+            s.stats.iterations += result.iterations;
         }
         s.stats.rounds = round + 1;
         if (round + 1 == rounds) break;
