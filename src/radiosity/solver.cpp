@@ -88,14 +88,15 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
             state.updateThresholds();
             state.local_active = local_active;
             bool changed = false;
-            progress.beginPhase("links" + suffix + " (deferred)");
+            const std::string deferred_name = pass == 0 ? " (deferred)" : " (deferred " + std::to_string(pass + 1) + ")";
+            progress.beginPhase("links" + suffix + deferred_name);
             std::vector<PendingLink> deferred = clusters->reopen(progress, changed, true);
             if (!changed) break;
             refineLinks(state, std::move(deferred), progress);
             computeDirectLight(state);
             groupLinksByReceiver(s, &state.records);
             groupClusterLinksByReceiver(s);
-            progress.beginPhase("solve" + suffix + " (deferred)");
+            progress.beginPhase("solve" + suffix + deferred_name);
             result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance, options.max_iterations);
             s.stats.iterations += result.iterations;
         }

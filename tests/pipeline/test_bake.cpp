@@ -191,11 +191,13 @@ TEST_CASE("the progress sink sees every phase begin and end, fractions within [0
     REQUIRE(bake(litRoom(), draftOptions(2), progress, diagnostics).ok());
     CHECK(fractions_ok);
     CHECK(begun == ended);
-    // The room's cluster links from unlit surfaces wait for the first solve (solver.cpp).
-    const std::vector<std::string> expected = {"parts",          "elements",         "direct light",
-                                               "links",          "solve",            "links (deferred)",
-                                               "solve (deferred)", "vertices",        "lightmaps",
-                                               "probes"};
+    // The room's cluster links from unlit surfaces wait for the first solve (solver.cpp); the
+    // last round's deferred passes repeat while they light new sources (the third finds none).
+    const std::vector<std::string> expected = {
+        "parts",          "elements",           "direct light",         "links",
+        "solve",          "links (deferred)",   "solve (deferred)",     "links (deferred 2)",
+        "solve (deferred 2)", "links (deferred 3)", "vertices",         "lightmaps",
+        "probes"};
     CHECK(begun == expected);
 }
 
@@ -257,6 +259,8 @@ TEST_CASE("lightmaps are scale invariant: the same texels per object at 1e-4, 1 
         // the same roots and links at both scales). Since the ceiling is cut along the lamp's
         // outline (contact_cuts.h), a split of a whole block face (y = 0.7) flips too: made at
         // scale 1, not at 1e-4 or 1e6 (493 against 489 elements), and the sum moves by 1.4e-3.
+        // The last round's repeated deferred passes follow such flips one bounce further: the
+        // worst texel within 7 %.
         double worst = 0.0, brightest = 0.0, sum = 0.0, sum_reference = 0.0;
         for (size_t k = 0; k < maps.images.size(); ++k) {
             REQUIRE(maps.images[k].rgb.size() == reference.images[k].rgb.size());
@@ -271,7 +275,7 @@ TEST_CASE("lightmaps are scale invariant: the same texels per object at 1e-4, 1 
         MESSAGE("scale " << s << ": worst texel " << worst / brightest << " of the brightest, sum "
                          << sum / sum_reference - 1.0);
         CHECK(brightest > 0.0);
-        CHECK(worst <= 0.06 * brightest);
+        CHECK(worst <= 0.07 * brightest);
         CHECK(sum == doctest::Approx(sum_reference).epsilon(2e-3).scale(0.0));
     }
 }
