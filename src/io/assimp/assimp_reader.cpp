@@ -2,6 +2,7 @@
 // includes Assimp: nothing of Assimp (types, exceptions, its global logger) leaks out of here.
 #include "io/assimp/assimp_reader.h"
 
+#include <assimp/BaseImporter.h>
 #include <assimp/DefaultIOStream.h>
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
@@ -549,10 +550,44 @@ bool checkPlyHeader(const std::string& path, Diagnostics& diagnostics) {
     return false;
 }
 
+// True when `path` ends in "." + one of the importer's extensions (any case), as Assimp
+// compares them (whole endings: "mesh.xml" too).
+bool claims(Assimp::BaseImporter& candidate, const std::string& path) {
+    std::set<std::string> extensions;
+    candidate.GetExtensionList(extensions);
+    std::string lower = path;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    return std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
+        return lower.size() > extension.size() && lower[lower.size() - extension.size() - 1] == '.' &&
+               lower.compare(lower.size() - extension.size(), extension.size(), extension) == 0;
+    });
+}
+
+// When the importers of a file's extension all refuse it, Assimp guesses the format from the
+// content with every other importer: a damaged .gltf went to the OpenGEX reader, which
+// overflows its buffer (fuzz_assimp_gltf). A file whose extension some importer claims is read
+// by those importers only (the others leave `importer` and are owned by `removed`); a file
+// with an unknown extension is still recognised by its content.
+void keepClaimingImporters(Assimp::Importer& importer, const std::string& path,
+                           std::vector<std::unique_ptr<Assimp::BaseImporter>>& removed) {
+    std::vector<Assimp::BaseImporter*> others;
+    bool claimed = false;
+    for (size_t i = 0; i < importer.GetImporterCount(); ++i) {
+        Assimp::BaseImporter* candidate = importer.GetImporter(i);
+        if (candidate && claims(*candidate, path)) claimed = true;
+        else if (candidate) others.push_back(candidate);
+    }
+    if (!claimed) return;
+    for (Assimp::BaseImporter* other : others)
+        if (importer.UnregisterLoader(other) == aiReturn_SUCCESS) removed.emplace_back(other);
+}
+
 bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& reads) {
     if (!checkPlyHeader(path, diagnostics) || !checkGltfInput(path, reads.policy->max_bytes, diagnostics)) return false;
     ScopedLogger logger(path, diagnostics);
+    std::vector<std::unique_ptr<Assimp::BaseImporter>> removed;  // outlives the importer's use of them
     Assimp::Importer importer;
+    keepClaimingImporters(importer, path, removed);
     importer.SetIOHandler(new RecordingIOSystem(path, reads, diagnostics));  // the importer owns it
     // Bone-only files would otherwise gain made-up skeleton meshes.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
