@@ -701,4 +701,7 @@ TEST_CASE("fuzz: a file is read by the importers of its extension, its format no
     const std::optional<Scene> scene = importScene(dir.write("obj.dat", obj), {}, diagnostics);
     REQUIRE(scene);
     CHECK(totalArea(*scene) == doctest::Approx(0.5));
+    // OpenGEX is never read: not by its extension, not guessed from the content.
+    CHECK(refusal(dir, "scene.OGEX", "indexarray\"--------,\n").message.find("OpenGEX files are not read") != std::string::npos);
+    CHECK(refusal(dir, "opengex.dat", "indexarray\"--------,\n").message.find("No suitable reader") != std::string::npos);
 }
