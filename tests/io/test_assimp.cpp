@@ -686,3 +686,22 @@ TEST_CASE("fuzz: glTF 2.0 still reads past the glTF checks") {
         CHECK(totalArea(*scene) == doctest::Approx(0.5));
     }
 }
+
+TEST_CASE("fuzz: a file is read by the importers of its extension, its format not guessed from the content") {
+    // fuzz_assimp_gltf, 20 bytes: refused by both glTF importers, Assimp 5.2.5 guessed the
+    // format from the content and read it as OpenGEX ("IndexArray"), whose parser reads past
+    // its buffer (heap-buffer-overflow in strlen under ASan).
+    TempDir dir;
+    const Diagnostic error = refusal(dir, "opengex.gltf", "indexarray\"--------,\n");
+    CHECK(error.message.find("No suitable reader") != std::string::npos);
+    // Nor is an OBJ named .gltf read as OBJ; with an extension no importer claims it still is.
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    CHECK(refusal(dir, "obj.gltf", obj).message.find("No suitable reader") != std::string::npos);
+    Diagnostics diagnostics;
+    const std::optional<Scene> scene = importScene(dir.write("obj.dat", obj), {}, diagnostics);
+    REQUIRE(scene);
+    CHECK(totalArea(*scene) == doctest::Approx(0.5));
+    // OpenGEX is never read: not by its extension, not guessed from the content.
+    CHECK(refusal(dir, "scene.OGEX", "indexarray\"--------,\n").message.find("OpenGEX files are not read") != std::string::npos);
+    CHECK(refusal(dir, "opengex.dat", "indexarray\"--------,\n").message.find("No suitable reader") != std::string::npos);
+}

@@ -2,6 +2,7 @@
 // includes Assimp: nothing of Assimp (types, exceptions, its global logger) leaks out of here.
 #include "io/assimp/assimp_reader.h"
 
+#include <assimp/BaseImporter.h>
 #include <assimp/DefaultIOStream.h>
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
@@ -549,10 +550,77 @@ bool checkPlyHeader(const std::string& path, Diagnostics& diagnostics) {
     return false;
 }
 
+// True when `path` ends in "." + one of the importer's extensions (any case), as Assimp
+// compares them (whole endings: "mesh.xml" too).
+bool claims(Assimp::BaseImporter& candidate, const std::string& path) {
+    std::set<std::string> extensions;
+    candidate.GetExtensionList(extensions);
+    std::string lower = path;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    return std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
+        return lower.size() > extension.size() && lower[lower.size() - extension.size() - 1] == '.' &&
+               lower.compare(lower.size() - extension.size(), extension.size(), extension) == 0;
+    });
+}
+
+// Importers never used, whatever the file: Assimp 5.2.5's OpenGEX parser reads past its
+// buffer on a 20-byte file (fuzz_assimp_gltf, docs/fuzzing.md).
+struct LeftOutFormat {
+    const char* extension;
+    const char* name;
+};
+constexpr LeftOutFormat kLeftOutFormats[] = {{"ogex", "OpenGEX"}};
+
+const LeftOutFormat* leftOutFormat(Assimp::BaseImporter& candidate) {
+    std::set<std::string> extensions;
+    candidate.GetExtensionList(extensions);
+    for (const LeftOutFormat& format : kLeftOutFormats)
+        if (extensions.count(format.extension)) return &format;
+    return nullptr;
+}
+
+// A file named as a left-out format is a located error, before Assimp sees it.
+bool checkLeftOutFormat(const std::string& path, Diagnostics& diagnostics) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    for (const LeftOutFormat& format : kLeftOutFormats) {
+        if (extension != std::string(".") + format.extension) continue;
+        diagnostics.error({path, 0, 0}, std::string(format.name) +
+                                            " files are not read: Assimp 5.2.5's reader runs past its buffer on malformed ones");
+        return false;
+    }
+    return true;
+}
+
+// When the importers of a file's extension all refuse it, Assimp guesses the format from the
+// content with every other importer: a damaged .gltf went to the OpenGEX reader, which
+// overflows its buffer (fuzz_assimp_gltf). A file whose extension some importer claims is read
+// by those importers only (the others leave `importer` and are owned by `removed`); a file
+// with an unknown extension is still recognised by its content, never as a left-out format.
+void keepClaimingImporters(Assimp::Importer& importer, const std::string& path,
+                           std::vector<std::unique_ptr<Assimp::BaseImporter>>& removed) {
+    std::vector<Assimp::BaseImporter*> others, left_out;
+    bool claimed = false;
+    for (size_t i = 0; i < importer.GetImporterCount(); ++i) {
+        Assimp::BaseImporter* candidate = importer.GetImporter(i);
+        if (!candidate) continue;
+        if (leftOutFormat(*candidate)) left_out.push_back(candidate);
+        else if (claims(*candidate, path)) claimed = true;
+        else others.push_back(candidate);
+    }
+    if (claimed) left_out.insert(left_out.end(), others.begin(), others.end());
+    for (Assimp::BaseImporter* other : left_out)
+        if (importer.UnregisterLoader(other) == aiReturn_SUCCESS) removed.emplace_back(other);
+}
+
 bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& reads) {
-    if (!checkPlyHeader(path, diagnostics) || !checkGltfInput(path, reads.policy->max_bytes, diagnostics)) return false;
+    if (!checkLeftOutFormat(path, diagnostics) || !checkPlyHeader(path, diagnostics) ||
+        !checkGltfInput(path, reads.policy->max_bytes, diagnostics))
+        return false;
     ScopedLogger logger(path, diagnostics);
+    std::vector<std::unique_ptr<Assimp::BaseImporter>> removed;  // outlives the importer's use of them
     Assimp::Importer importer;
+    keepClaimingImporters(importer, path, removed);
     importer.SetIOHandler(new RecordingIOSystem(path, reads, diagnostics));  // the importer owns it
     // Bone-only files would otherwise gain made-up skeleton meshes.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
