@@ -23,7 +23,7 @@ timeout_s=10
 rss_mb=2048
 do_build=1
 
-usage() { sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2; }
+usage() { sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit "${1:-2}"; }
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --minutes) minutes="${2:-}"; shift 2 ;;
@@ -34,10 +34,11 @@ while [[ $# -gt 0 ]]; do
         --timeout) timeout_s="${2:-}"; shift 2 ;;
         --rss-limit-mb) rss_mb="${2:-}"; shift 2 ;;
         --no-build) do_build=0; shift ;;
-        -h|--help) usage ;;
+        -h|--help) usage 0 ;;
         *) echo "fuzz.sh: unknown argument '$1'" >&2; usage ;;
     esac
 done
+build="$(realpath -m "$build")"  # the targets run from their own folders
 for value in "$minutes" "$jobs" "$timeout_s" "$rss_mb"; do
     [[ "$value" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: '$value' is not a positive whole number" >&2; exit 2; }
 done

@@ -670,6 +670,14 @@ TEST_CASE("fuzz: a glTF data: URI with a byte that is not base64 is a located er
         CHECK(error.location.column == static_cast<int>(text.find("\"data:") + 1));
         CHECK(error.message.find("data: URI") != std::string::npos);
     }
+    // fuzz_assimp_gltf, 30 minutes: Assimp keeps where a data: URI's parts start in chars, so
+    // past 127 bytes of header it decodes from before the string (here into the JSON before
+    // it; a leak again when that holds a high byte). Real headers are short.
+    std::string long_header = gltfTriangle();
+    long_header.insert(long_header.find("octet-stream") + 12, ";x=" + std::string(100, 'y'));
+    const Diagnostic error = refusal(dir, "header.gltf", long_header);
+    CHECK(error.location.column == static_cast<int>(long_header.find("\"data:") + 1));
+    CHECK(error.message.find("data: URI") != std::string::npos);
 }
 
 TEST_CASE("fuzz: glTF 2.0 still reads past the glTF checks") {

@@ -72,36 +72,48 @@ private:
 };
 
 // What a scan of the JSON text finds first: where nesting exceeds the limit, and where a
-// string that is a data: URI (as Assimp reads it, escapes decoded) has a byte of 0x80 or
-// above after its comma. Assimp 5.2.5's base64 decoder throws on such a byte after
+// string is a data: URI (as Assimp reads it, escapes decoded) that Assimp misreads: a long
+// header (DataUriCheck), or a byte of 0x80 or above after its comma. Assimp 5.2.5's base64 decoder throws on such a byte after
 // allocating its output, which then leaks (fuzz_assimp_gltf).
 struct JsonScan {
     std::optional<size_t> too_deep_at;
     std::optional<size_t> bad_data_uri_at;
 };
 
-// The decoded prefix and payload of one JSON string, fed a decoded character at a time.
+// Assimp 5.2.5 notes where a data: URI's parts start in single chars, so a header (what comes
+// before the comma) longer than 127 bytes makes it read from before the string
+// (fuzz_assimp_gltf); headers of real files are a few dozen bytes.
+constexpr size_t kMaxDataUriHeader = 120;
+
+// The decoded prefix, header and payload of one JSON string, fed a decoded character at a time.
 class DataUriCheck {
 public:
     void start(size_t at) { *this = DataUriCheck(); start_ = at; }
-    // False once the string is a data: URI with a high byte after its comma.
+    // False once the string is a data: URI Assimp misreads: a header too long, or a byte of
+    // 0x80 or above after the comma.
     bool feed(unsigned code) {
         if (prefix_.size() < 5) {
             prefix_ += static_cast<char>(code < 0x80 ? std::tolower(static_cast<int>(code)) : 0xff);
+            header_bytes_ = prefix_.size();
             return true;
         }
         if (prefix_ != "data:") return true;
         if (!after_comma_) {
             after_comma_ = code == ',';
-            return true;
+            header_bytes_ += utf8Bytes(code);  // a raw byte of 0x80 or above counts 2: too many is safe
+            return header_bytes_ <= kMaxDataUriHeader;
         }
         return code < 0x80;
     }
     size_t start() const { return start_; }
 
 private:
+    // Bytes of an escaped code point in UTF-8, at most (a surrogate half counts 3).
+    static size_t utf8Bytes(unsigned code) { return code < 0x80 ? 1 : code < 0x800 ? 2 : 3; }
+
     std::string prefix_;
     bool after_comma_ = false;
+    size_t header_bytes_ = 0;
     size_t start_ = 0;
 };
 
@@ -173,8 +185,10 @@ bool checkJson(const std::string& path, std::string_view json, size_t base, bool
         return false;
     }
     if (scan.bad_data_uri_at) {
-        diagnostics.error(where(*scan.bad_data_uri_at), "glTF data: URI holds a byte that is not base64 (0x80 or above)" +
-                                                            byte(*scan.bad_data_uri_at) + "; not read");
+        diagnostics.error(where(*scan.bad_data_uri_at),
+                          "glTF data: URI that Assimp misreads (a header over " + std::to_string(kMaxDataUriHeader) +
+                              " bytes before its comma, or a byte of 0x80 or above after it)" +
+                              byte(*scan.bad_data_uri_at) + "; not read");
         return false;
     }
     VersionFinder finder;

@@ -16,7 +16,8 @@ inline constexpr int kMaxGltfNesting = 64;
 // glTF 2.0 nested at most kMaxGltfNesting deep, or is larger than `max_bytes` (the reader
 // refuses it). Otherwise reports a located error and returns false: glTF 1.0 (text, or glb
 // version 1), JSON without a top-level asset.version of 2.x before any syntax error, nesting
-// too deep, or a data: URI with a byte of 0x80 or above after its comma.
+// too deep, or a data: URI with a header over 120 bytes or a byte of 0x80 or above after its
+// comma.
 bool checkGltfInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics);
 
 }  // namespace radbake
