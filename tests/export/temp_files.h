@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -39,6 +40,16 @@ inline std::string writeText(const TempDir& dir, const std::string& name, const 
     const std::string path = (dir.path / name).string();
     std::ofstream(path, std::ios::binary) << text;
     return path;
+}
+
+// name -> content of every regular file under `dir`, and "name/" for directories.
+inline std::map<std::string, std::string> listing(const std::filesystem::path& dir) {
+    std::map<std::string, std::string> out;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir)) {
+        const std::string name = std::filesystem::relative(entry.path(), dir).string();
+        out[entry.is_directory() ? name + "/" : name] = entry.is_directory() ? "" : readBytes(entry.path());
+    }
+    return out;
 }
 
 }  // namespace testfs

@@ -20,22 +20,13 @@
 
 using namespace radbake;
 namespace fs = std::filesystem;
+using testfs::listing;
 using testfs::readBytes;
 using testfs::TempDir;
 
 namespace {
 
 constexpr int kKilled = 42;
-
-// name -> content of every entry under `dir` ("name/" for directories), hidden ones included.
-std::map<std::string, std::string> listing(const fs::path& dir) {
-    std::map<std::string, std::string> out;
-    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-        const std::string name = fs::relative(entry.path(), dir).string();
-        out[entry.is_directory() ? name + "/" : name] = entry.is_directory() ? "" : readBytes(entry.path());
-    }
-    return out;
-}
 
 using Files = std::map<std::string, std::string>;
 

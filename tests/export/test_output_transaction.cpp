@@ -19,20 +19,11 @@
 
 using namespace radbake;
 namespace fs = std::filesystem;
+using testfs::listing;
 using testfs::readBytes;
 using testfs::TempDir;
 
 namespace {
-
-// name -> content of every regular file under `dir`, and "name/" for directories.
-std::map<std::string, std::string> listing(const fs::path& dir) {
-    std::map<std::string, std::string> out;
-    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-        const std::string name = fs::relative(entry.path(), dir).string();
-        out[entry.is_directory() ? name + "/" : name] = entry.is_directory() ? "" : readBytes(entry.path());
-    }
-    return out;
-}
 
 void put(const fs::path& p, const std::string& content) { std::ofstream(p, std::ios::binary) << content; }
 
