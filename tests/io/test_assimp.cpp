@@ -713,3 +713,63 @@ TEST_CASE("fuzz: a file is read by the importers of its extension, its format no
     CHECK(refusal(dir, "scene.OGEX", "indexarray\"--------,\n").message.find("OpenGEX files are not read") != std::string::npos);
     CHECK(refusal(dir, "opengex.dat", "indexarray\"--------,\n").message.find("No suitable reader") != std::string::npos);
 }
+
+namespace {
+
+// The import fails with a located error from the OBJ check (so Assimp never read the file).
+void checkObjRefused(const std::string& path, int line, const std::string& part) {
+    Diagnostics diagnostics;
+    CHECK_FALSE(importScene(path, {}, diagnostics));
+    REQUIRE(diagnostics.errorCount() == 1);
+    const Diagnostic& error = diagnostics.all().back();
+    CHECK(error.location.file == path);
+    CHECK(error.location.line == line);
+    CHECK_MESSAGE(error.message.find(part) != std::string::npos, error.message);
+}
+
+}  // namespace
+
+TEST_CASE("fuzz: an OBJ statement naming a vertex that is not there is refused before Assimp reads it") {
+    TempDir dir;
+    // Assimp 5.2.5 leaks the meshes it finished when a later one fails ("vertex index out of
+    // range", "no vertices"): finding 3's minimized input and finding 10's kind.
+    checkObjRefused(dir.write("finding3.obj", std::string("l\nv 0 0 0\nv 1 0 0\nv 0 1 0\n\xa1 1 2 3\nusemtl 3\n2\nf 1 2 3\n"
+                                                          "usemtl h -1\nlp 3\n")),
+                    10, "single vertex");
+    checkObjRefused(dir.write("later.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\no a\nf 1 2 3\no b\nf 1 2 9\n"), 7,
+                    "names vertex 9, but the file defines 3 vertices");
+    checkObjRefused(dir.write("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\nv 0 0 1\n"), 4, "names vertex -4");
+    // A vertex inside a cstype section is not a vertex to Assimp.
+    checkObjRefused(dir.write("cstype.obj", "v 0 0 0\nv 1 0 0\ncstype bspline\nv 0 1 0\nend\nf 1 2 3\n"), 6,
+                    "names vertex 3, but the file defines 2 vertices");
+    // Two components are not a vertex either.
+    checkObjRefused(dir.write("short.obj", "v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n"), 4, "defines 2 vertices");
+    // Statements Assimp reads past their line's end.
+    checkObjRefused(dir.write("parts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1/1 2 3\n"), 6,
+                    "more than three parts");
+    checkObjRefused(dir.write("vtab.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \v3\n"), 4, "vertical tab");
+    checkObjRefused(dir.write("huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2147483648\n"), 4, "beyond the range of an int");
+    // Without texture coordinates Assimp takes a corner's second part as its normal.
+    checkObjRefused(dir.write("normal_parts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1/1/1 2 3\n"), 5,
+                    "more than three parts");
+}
+
+TEST_CASE("fuzz: OBJ files Assimp reads pass the OBJ check") {
+    TempDir dir;
+    const std::string header = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n";
+    for (const std::string& body : {std::string("f 1 2 3\n"), std::string("f -3 -2 -1\n"), std::string("f 1/1 2/2 3/3\n"),
+                                    std::string("f 1/1/1 2/2/1 3/3/1\n"), std::string("f 1//1 2//1 3//1\n"),
+                                    std::string("f 1 2 \\\n3\n"), std::string("f\t1\t2\t3\r\n"), std::string("f +1 02 3\n"),
+                                    std::string("cstype bspline\nf 1 2 9\nend\nf 1 2 3\n"), std::string("# f 9 9 9\nf 1 2 3\n")}) {
+        CAPTURE(body);
+        Diagnostics diagnostics;
+        std::optional<Scene> scene = importScene(dir.write("ok.obj", header + body), {}, diagnostics);
+        REQUIRE(scene);
+        CHECK(summarize(*scene).triangles == 1);
+        CHECK(summarize(*scene).area == doctest::Approx(0.5));
+    }
+    // A face index that is not a number: Assimp refuses the file itself, with no leak.
+    Diagnostics diagnostics;
+    CHECK_FALSE(importScene(dir.write("word.obj", header + "f 1 2 x\n"), {}, diagnostics));
+    CHECK(hasMessage(diagnostics, Severity::Error, "Invalid face index"));
+}

@@ -28,6 +28,7 @@
 
 #include "core/regular_file.h"
 #include "io/assimp/gltf_guard.h"
+#include "io/assimp/obj_guard.h"
 #include "scene/triangulate.h"
 
 namespace radbake {
@@ -579,10 +580,16 @@ const LeftOutFormat* leftOutFormat(Assimp::BaseImporter& candidate) {
     return nullptr;
 }
 
-// A file named as a left-out format is a located error, before Assimp sees it.
-bool checkLeftOutFormat(const std::string& path, Diagnostics& diagnostics) {
+// ".obj" for "Mesh.OBJ".
+std::string lowerExtension(const std::string& path) {
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    return extension;
+}
+
+// A file named as a left-out format is a located error, before Assimp sees it.
+bool checkLeftOutFormat(const std::string& path, Diagnostics& diagnostics) {
+    const std::string extension = lowerExtension(path);
     for (const LeftOutFormat& format : kLeftOutFormats) {
         if (extension != std::string(".") + format.extension) continue;
         diagnostics.error({path, 0, 0}, std::string(format.name) +
@@ -597,7 +604,8 @@ bool checkLeftOutFormat(const std::string& path, Diagnostics& diagnostics) {
 // overflows its buffer (fuzz_assimp_gltf). A file whose extension some importer claims is read
 // by those importers only (the others leave `importer` and are owned by `removed`); a file
 // with an unknown extension is still recognised by its content, never as a left-out format.
-void keepClaimingImporters(Assimp::Importer& importer, const std::string& path,
+// Returns whether some importer claims the extension.
+bool keepClaimingImporters(Assimp::Importer& importer, const std::string& path,
                            std::vector<std::unique_ptr<Assimp::BaseImporter>>& removed) {
     std::vector<Assimp::BaseImporter*> others, left_out;
     bool claimed = false;
@@ -611,7 +619,10 @@ void keepClaimingImporters(Assimp::Importer& importer, const std::string& path,
     if (claimed) left_out.insert(left_out.end(), others.begin(), others.end());
     for (Assimp::BaseImporter* other : left_out)
         if (importer.UnregisterLoader(other) == aiReturn_SUCCESS) removed.emplace_back(other);
+    return claimed;
 }
+
+
 
 bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& reads) {
     if (!checkLeftOutFormat(path, diagnostics) || !checkPlyHeader(path, diagnostics) ||
@@ -620,7 +631,10 @@ bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostic
     ScopedLogger logger(path, diagnostics);
     std::vector<std::unique_ptr<Assimp::BaseImporter>> removed;  // outlives the importer's use of them
     Assimp::Importer importer;
-    keepClaimingImporters(importer, path, removed);
+    const bool claimed = keepClaimingImporters(importer, path, removed);
+    // The OBJ importer reads .obj files and may recognise one of an unclaimed extension.
+    if ((!claimed || lowerExtension(path) == ".obj") && !checkObjInput(path, reads.policy->max_bytes, diagnostics))
+        return false;
     importer.SetIOHandler(new RecordingIOSystem(path, reads, diagnostics));  // the importer owns it
     // Bone-only files would otherwise gain made-up skeleton meshes.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
