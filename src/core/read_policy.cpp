@@ -46,12 +46,23 @@ std::string ReadPolicy::whyRefused(const std::string& path) const {
     return whyNotRegularFile(path);
 }
 
+OpenedFileCheck ReadPolicy::openedCheck() const {
+    return [this](const fs::path& opened) -> std::string {
+        if (!opened.empty() && (opened == scene_file || std::any_of(roots.begin(), roots.end(), [&](const fs::path& root) {
+                                    return isUnder(opened, root);
+                                })))
+            return {};
+        return "opened '" + opened.string() + "', outside the read roots (the path changed after it was checked)";
+    };
+}
+
 ReadPolicy readPolicyFor(const std::string& scene_path, const std::vector<std::string>& extra_roots, size_t max_bytes) {
     ReadPolicy policy;
     policy.max_bytes = max_bytes;
     // The folder the scene's relative names start from: the one its path names, even when
     // the scene file itself is a symbolic link to elsewhere.
     std::error_code ec;
+    policy.scene_file = resolved(scene_path);
     std::vector<std::string> roots{fs::absolute(scene_path, ec).parent_path().string()};
     roots.insert(roots.end(), extra_roots.begin(), extra_roots.end());
     for (const std::string& root : roots) {

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/regular_file.h"
+
 namespace radbake {
 
 // The largest file a scene may make us read, and the largest text a gzip stream may inflate
@@ -17,6 +19,7 @@ inline constexpr size_t kDefaultMaxInputBytes = size_t(1) << 30;
 
 struct ReadPolicy {
     std::vector<std::filesystem::path> roots;  // canonical; no roots: every path is refused
+    std::filesystem::path scene_file;          // canonical; read wherever it leads
     size_t max_bytes = kDefaultMaxInputBytes;
 
     // Empty when `path` resolves to a place under one of the roots (whether or not a file is
@@ -25,6 +28,9 @@ struct ReadPolicy {
     // whyOutside, then, when something is there, whyNotRegularFile: empty when a scene may
     // read `path` or when nothing is there (the caller's "missing", named in the depfile).
     std::string whyRefused(const std::string& path) const;
+    // The check openRegularFile makes on the file it opened: under a root, or the scene file.
+    // A path swapped for a symbolic link between whyOutside and the open is refused so.
+    OpenedFileCheck openedCheck() const;
 };
 
 // The policy of the scene file at `scene_path`: its own folder, then each of `extra_roots`

@@ -22,6 +22,14 @@ std::string notRegular(mode_t mode) {
 
 std::string errnoReason(int error) { return error == ENOENT ? "no such file" : std::strerror(error); }
 
+// Where the open descriptor `fd` leads, as the kernel resolved it when opening; empty when
+// /proc is not mounted (the check then sees an empty path and refuses).
+std::filesystem::path openedPath(int fd) {
+    std::error_code ec;
+    std::filesystem::path target = std::filesystem::read_symlink("/proc/self/fd/" + std::to_string(fd), ec);
+    return ec ? std::filesystem::path() : target;
+}
+
 }  // namespace
 
 std::string whyNotRegularFile(const std::string& path) {
@@ -38,7 +46,7 @@ std::string whyNotReplaceable(const std::string& path) {
 
 std::string largerThan(size_t max_bytes) { return "larger than " + std::to_string(max_bytes) + " bytes"; }
 
-InputFile openRegularFile(const std::string& path, std::string& why, size_t max_bytes) {
+InputFile openRegularFile(const std::string& path, std::string& why, size_t max_bytes, const OpenedFileCheck& check) {
     // Checked before opening too: opening a device can itself act (a tape rewinds).
     why = whyNotRegularFile(path);
     if (!why.empty()) return nullptr;
@@ -51,6 +59,7 @@ InputFile openRegularFile(const std::string& path, std::string& why, size_t max_
     if (::fstat(fd, &status) != 0) why = errnoReason(errno);
     else if (!S_ISREG(status.st_mode)) why = notRegular(status.st_mode);
     else if (static_cast<uint64_t>(status.st_size) > max_bytes) why = largerThan(max_bytes);
+    else if (check) why = check(openedPath(fd));
     if (!why.empty()) {
         ::close(fd);
         return nullptr;
@@ -64,8 +73,9 @@ InputFile openRegularFile(const std::string& path, std::string& why, size_t max_
     return InputFile(file);
 }
 
-std::optional<std::string> readRegularFile(const std::string& path, std::string& why, size_t max_bytes) {
-    const InputFile file = openRegularFile(path, why, max_bytes);
+std::optional<std::string> readRegularFile(const std::string& path, std::string& why, size_t max_bytes,
+                                           const OpenedFileCheck& check) {
+    const InputFile file = openRegularFile(path, why, max_bytes, check);
     if (!file) return std::nullopt;
     std::string bytes;
     char block[1 << 16];

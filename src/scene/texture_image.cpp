@@ -21,8 +21,8 @@ namespace {
 // when it is a regular file (stb_image would wait forever on a FIFO, read /dev/zero forever).
 class ImageSource {
 public:
-    ImageSource(const TextureRef& texture, std::string& why) : texture_(texture) {
-        if (!texture.embedded) file_ = openRegularFile(texture.path, why, kDefaultMaxInputBytes);
+    ImageSource(const TextureRef& texture, std::string& why, const OpenedFileCheck& check = {}) : texture_(texture) {
+        if (!texture.embedded) file_ = openRegularFile(texture.path, why, kDefaultMaxInputBytes, check);
     }
     bool opened() const { return texture_.embedded || file_; }
 
@@ -104,8 +104,8 @@ Vec4 TextureImage::texel(int64_t x, int64_t y) const {
 }
 
 std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error,
-                                             double max_memory_mb, bool* too_large) {
-    const ImageSource source(texture, error);
+                                             double max_memory_mb, bool* too_large, const ReadPolicy* policy) {
+    const ImageSource source(texture, error, policy ? policy->openedCheck() : OpenedFileCheck{});
     if (!source.opened()) return std::nullopt;
     TextureImage image;
     int channels = 0;

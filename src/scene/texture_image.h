@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/read_policy.h"
 #include "scene/scene.h"
 
 namespace radbake {
@@ -37,9 +38,11 @@ bool textureDecodeFits(int width, int height, int channels, double bytes_per_val
 // when `srgb` (colour textures; normal maps are data), HDR files are linear already; alpha
 // is never sRGB. nullopt with `error` set when the file cannot be read or decoded.
 // The image is the file at texture.path, or texture.embedded when set.
-// Refused by textureDecodeFits: `too_large` (when given) is set.
+// Refused by textureDecodeFits: `too_large` (when given) is set. With a `policy`, the file
+// opened must be one it allows.
 std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error,
-                                             double max_memory_mb = 0.0, bool* too_large = nullptr);
+                                             double max_memory_mb = 0.0, bool* too_large = nullptr,
+                                             const ReadPolicy* policy = nullptr);
 
 // The image as 8-bit RGBA bytes as stored (no colour conversion; HDR is mapped by stb_image's
 // default 1/2.2 gamma), for re-encoding to PNG. False with `error` set when it cannot be read.

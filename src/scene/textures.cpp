@@ -198,7 +198,7 @@ void applyTextures(Scene& scene, const ReadPolicy& policy, double max_memory_mb,
         std::string error;
         const TextureRef& ref = first_named[path];
         bool too_large = false;
-        const std::optional<TextureImage> image = readTextureImage(ref, true, error, max_memory_mb, &too_large);
+        const std::optional<TextureImage> image = readTextureImage(ref, true, error, max_memory_mb, &too_large, &policy);
         if (!image) {
             // A missing file, a FIFO or a directory alike: warned, and the bake goes on.
             diagnostics.warning(ref.location,

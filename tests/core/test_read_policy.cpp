@@ -40,3 +40,36 @@ TEST_CASE("read policy: under the scene's folder by whole components, symbolic l
     CHECK(widened.whyOutside("/etc/passwd").find("outside every read root") != std::string::npos);
     fs::remove_all(tmp);
 }
+
+TEST_CASE("read policy: the file actually opened is checked, so a path swapped for a link after the check is refused") {
+    std::string pattern = (fs::temp_directory_path() / "radbake-policy-XXXXXX").string();
+    REQUIRE(mkdtemp(pattern.data()) != nullptr);
+    const fs::path tmp = pattern;
+    fs::create_directories(tmp / "scene");
+    fs::create_directories(tmp / "secret");
+    std::ofstream(tmp / "scene" / "room.wrl") << "#VRML V2.0 utf8\n";
+    std::ofstream(tmp / "scene" / "inline.wrl") << "#VRML V2.0 utf8\n";
+    std::ofstream(tmp / "secret" / "key.txt") << "not for a scene\n";
+    const auto policy = readPolicyFor((tmp / "scene" / "room.wrl").string(), {});
+
+    std::string why;
+    CHECK(radbake::readRegularFile((tmp / "scene" / "inline.wrl").string(), why, SIZE_MAX, policy.openedCheck()));
+    // The swap: the name passed the check as a file in the tree, then became a link out of it.
+    const fs::path swapped = tmp / "scene" / "texture.png";
+    std::ofstream(swapped) << "image";
+    REQUIRE(policy.whyRefused(swapped.string()).empty());
+    fs::remove(swapped);
+    REQUIRE_MESSAGE(::symlink((tmp / "secret" / "key.txt").c_str(), swapped.c_str()) == 0, std::strerror(errno));
+    CHECK_FALSE(radbake::readRegularFile(swapped.string(), why, SIZE_MAX, policy.openedCheck()));
+    CHECK(why.find("opened '" + (tmp / "secret" / "key.txt").string() + "', outside the read roots") != std::string::npos);
+    CHECK_FALSE(radbake::openRegularFile(swapped.string(), why, SIZE_MAX, policy.openedCheck()));
+    // Without the check the same open succeeds: the check is what refuses it.
+    CHECK(radbake::readRegularFile(swapped.string(), why));
+
+    // The scene file itself is read wherever it leads.
+    const fs::path linked_scene = tmp / "scene" / "linked.wrl";
+    REQUIRE(::symlink((tmp / "secret" / "key.txt").c_str(), linked_scene.c_str()) == 0);
+    const auto linked_policy = readPolicyFor(linked_scene.string(), {});
+    CHECK(radbake::readRegularFile(linked_scene.string(), why, SIZE_MAX, linked_policy.openedCheck()));
+    fs::remove_all(tmp);
+}

@@ -446,7 +446,7 @@ public:
             return nullptr;
         if (!allowed(file)) return nullptr;
         std::string why;
-        InputFile opened = openRegularFile(file, why, reads_.policy->max_bytes);
+        InputFile opened = openRegularFile(file, why, reads_.policy->max_bytes, reads_.policy->openedCheck());
         if (!opened) {
             // In the read roots, missing or not: adding it, or replacing what is there, rebuilds.
             note(reads_.files_read, file);
