@@ -245,6 +245,40 @@ std::optional<Journal> parseJournal(const std::string& text, const fs::path& out
     }
 }
 
+// Flushes a file's data, or a directory's entries, to the disk: a power cut after a rename
+// then finds the renamed file whole, and the rename itself. Empty on success, else why.
+std::string syncPath(const fs::path& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return path.string() + ": " + std::strerror(errno);
+    const bool ok = ::fsync(fd) == 0;
+    const int saved = errno;
+    ::close(fd);
+    return ok ? std::string() : path.string() + ": " + std::strerror(saved);
+}
+
+// Every staged file and the directories holding them, flushed before any rename publishes them.
+std::string syncStaged(const fs::path& staging_dir, const std::vector<std::string>& staged) {
+    std::vector<fs::path> dirs{staging_dir};
+    for (const std::string& name : staged) {
+        if (std::string why = syncPath(staging_dir / name); !why.empty()) return why;
+        for (fs::path dir = fs::path(name).parent_path(); !dir.empty(); dir = dir.parent_path())
+            if (std::find(dirs.begin(), dirs.end(), staging_dir / dir) == dirs.end()) dirs.push_back(staging_dir / dir);
+    }
+    for (const fs::path& dir : dirs)
+        if (std::string why = syncPath(dir); !why.empty()) return why;
+    return {};
+}
+
+// OUTDIR, each of its directories a step of `journal` renamed into or out of, and the
+// staging directory holding the backups, flushed.
+void syncRenamedDirectories(const fs::path& out_dir, const fs::path& staging_dir, const Journal& journal) {
+    std::vector<fs::path> dirs{out_dir, staging_dir};
+    for (const Journal::Step& step : journal.steps)
+        for (fs::path dir = fs::path(step.name).parent_path(); !dir.empty(); dir = dir.parent_path())
+            if (std::find(dirs.begin(), dirs.end(), out_dir / dir) == dirs.end()) dirs.push_back(out_dir / dir);
+    for (const fs::path& dir : dirs) syncPath(dir);
+}
+
 // Written whole or not at all (a temporary renamed into place), and flushed, so that the
 // renames it announces never reach the disk before it does.
 std::string writeJournal(const fs::path& out_dir, const Journal& journal) {
@@ -267,7 +301,7 @@ std::string writeJournal(const fs::path& out_dir, const Journal& journal) {
         ::unlink(temporary.c_str());
         return why;
     }
-    return {};
+    return syncPath(out_dir);
 }
 
 // Puts OUTDIR back as it was before the journal's commit, from wherever that commit stopped:
@@ -518,6 +552,10 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
             return false;
         }
     }
+    if (const std::string why = syncStaged(staging_dir_, staged_); !why.empty()) {
+        diagnostics.error(at(out_dir_), "cannot flush the outputs to disk: " + why);
+        return false;
+    }
     if (!fs::exists(out_dir_, ec)) {
         // A new OUTDIR appears in one atomic step, complete (the lock file keeps other bakes out).
         changed_ = staged_.size();
@@ -526,6 +564,7 @@ bool OutputTransaction::commit(Diagnostics& diagnostics) {
             diagnostics.error(at(out_dir_), "cannot move outputs into place: " + ec.message());
             return false;
         }
+        syncPath(out_dir_.parent_path().empty() ? fs::path(".") : out_dir_.parent_path());
         forgetSignalPaths();
         committed_ = true;
         staging_dir_.clear();
@@ -629,7 +668,10 @@ bool OutputTransaction::commitIntoExisting(Diagnostics& diagnostics) {
         }
     }
     if (failure.empty()) {
+        // The renames reach the disk before the journal that could undo them goes.
+        syncRenamedDirectories(out_dir_, staging_dir_, journal);
         ::unlink((out_dir_ / kJournalName).c_str());  // the commit point: the new bake is whole
+        syncPath(out_dir_);
         return true;
     }
     diagnostics.error(at(out_dir_), failure);
