@@ -95,7 +95,7 @@ std::optional<Scene> importPhases(const std::string& path, const ImportOptions& 
                                    scene, diagnostics)
                         : readWithAssimp(path, scene, diagnostics,
                                          AssimpReads{.policy = &policy, .files_read = &files_read,
-                                                     .files_refused = &scene.refused_inputs});
+                                                     .files_refused = &scene.refused_inputs, .memory = &memory});
     if (!ok || diagnostics.hasErrors()) return std::nullopt;
     // The scene file first, then each other file once, in the order first read.
     files_read.insert(files_read.begin(), path);

@@ -7,6 +7,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "core/memory.h"
 #include "io/assimp/gltf_guard.h"
 #include "io/import.h"
 
@@ -772,4 +773,30 @@ TEST_CASE("fuzz: OBJ files Assimp reads pass the OBJ check") {
     Diagnostics diagnostics;
     CHECK_FALSE(importScene(dir.write("word.obj", header + "f 1 2 x\n"), {}, diagnostics));
     CHECK(hasMessage(diagnostics, Severity::Error, "Invalid face index"));
+}
+
+TEST_CASE("memory: an Assimp read and the scene it yields are asked of --max-memory first, a located error when over") {
+    TempDir dir;
+    std::string grid = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    std::string faces;
+    for (int i = 0; i < 500000; ++i) faces += "f 1 2 3\n";
+    const std::string path = dir.write("many.obj", grid + faces);
+    {
+        // 16 bytes of reading per byte of the file do not fit in 20 MiB more than now.
+        ImportOptions options;
+        options.max_memory_mb = residentMegabytes() + 20.0;
+        Diagnostics diagnostics;
+        CHECK_FALSE(importScene(path, options, diagnostics));
+        REQUIRE(diagnostics.errorCount() == 1);
+        CHECK(diagnostics.all().back().location.file == path);
+        CHECK(hasMessage(diagnostics, Severity::Error, "file with Assimp takes about 61 MiB"));
+    }
+    {
+        // The read fits, the 500,000 triangles it yields (over 100 MiB through the import) do not.
+        ImportOptions options;
+        options.max_memory_mb = residentMegabytes() + 100.0;
+        Diagnostics diagnostics;
+        CHECK_FALSE(importScene(path, options, diagnostics));
+        CHECK(hasMessage(diagnostics, Severity::Error, "the file expands to 500000 triangles in 1 mesh"));
+    }
 }

@@ -29,6 +29,7 @@
 #include "core/regular_file.h"
 #include "io/assimp/gltf_guard.h"
 #include "io/assimp/obj_guard.h"
+#include "scene/scene_budget.h"
 #include "scene/triangulate.h"
 
 namespace radbake {
@@ -624,6 +625,39 @@ bool keepClaimingImporters(Assimp::Importer& importer, const std::string& path,
 
 
 
+// Reading a file with Assimp peaks at about this many bytes per byte of the file: its parse,
+// the aiScene and JoinIdenticalVertices' copies at once (dense binary meshes the most).
+constexpr double kAssimpPeakPerFileByte = 16.0;
+
+// The read asked of the budget before Assimp starts it.
+bool fitsAssimpRead(const std::string& path, MemoryGauge& memory, Diagnostics& diagnostics) {
+    std::error_code ec;
+    const double size = static_cast<double>(std::filesystem::file_size(path, ec));
+    const double need = kAssimpPeakPerFileByte * size;
+    if (ec || memory.fits(need)) return true;
+    diagnostics.error({path, 0, 0}, "reading this " + bytesText(size) + " file with Assimp takes about " + bytesText(need) +
+                                        ", more than the memory budget leaves (" +
+                                        bytesText(std::max(memory.roomBytes(), 0.0)) + " of " +
+                                        bytesText(memory.budgetMegabytes() * 1048576.0) + "; --max-memory)");
+    return false;
+}
+
+// The scene Assimp read, asked of the budget before it is converted.
+bool fitsConversion(const std::string& path, const aiScene& ai, MemoryGauge& memory, Diagnostics& diagnostics) {
+    double triangles = 0.0, bytes = 0.0;
+    for (unsigned m = 0; m < ai.mNumMeshes; ++m) {
+        const aiMesh& mesh = *ai.mMeshes[m];
+        double mesh_triangles = 0.0;
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f)
+            mesh_triangles += std::max(0.0, double(mesh.mFaces[f].mNumIndices) - 2.0);
+        triangles += mesh_triangles;
+        bytes += meshBytesEstimate(double(mesh.mNumVertices), mesh_triangles);
+    }
+    if (memory.fits(bytes)) return true;
+    diagnostics.error({path, 0, 0}, overBudgetMessage("the file", double(ai.mNumMeshes), triangles, bytes, memory));
+    return false;
+}
+
 bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& reads) {
     if (!checkLeftOutFormat(path, diagnostics) || !checkPlyHeader(path, diagnostics) ||
         !checkGltfInput(path, reads.policy->max_bytes, diagnostics))
@@ -642,6 +676,7 @@ bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostic
     // No FindInvalidData either: it silently deletes a mesh with a NaN position, which
     // validation must report as a located error instead (it also drops bad normals itself).
     const unsigned flags = aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
+    if (reads.memory && !fitsAssimpRead(path, *reads.memory, diagnostics)) return false;
     const aiScene* ai = importer.ReadFile(path, flags);
     if (ai == nullptr) {
         std::string message = trimMessage(importer.GetErrorString());
@@ -650,6 +685,7 @@ bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostic
         return false;
     }
     if (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) diagnostics.warning({path, 0, 0}, "Assimp: the scene is incomplete");
+    if (reads.memory && !fitsConversion(path, *ai, *reads.memory, diagnostics)) return false;
     Converter converter{.ai = *ai, .path = path, .scene = scene, .diagnostics = diagnostics};
     converter.run();
     return true;

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "core/memory.h"
+
 #include "core/read_policy.h"
 #include "scene/scene.h"
 
@@ -16,6 +18,8 @@ struct AssimpReads {
     // When set, every file Assimp opened, and every one it tried to open and did not find.
     std::vector<std::string>* files_read = nullptr;
     std::vector<std::string>* files_refused = nullptr;  // when set, every path the policy refused
+    // When set, the bake's memory budget: the read and the scene it yields are asked for first.
+    MemoryGauge* memory = nullptr;
 };
 
 // Appends the file's meshes, materials, lights and cameras to `scene`. False after reporting

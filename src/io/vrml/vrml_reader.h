@@ -8,6 +8,7 @@
 #include "core/memory.h"
 #include "core/read_policy.h"
 #include "scene/scene.h"
+#include "scene/scene_budget.h"
 
 namespace radbake {
 
@@ -66,14 +67,6 @@ std::optional<std::string> resolveUrl(const std::string& base_file, const std::s
 // cameras from the sizes it noted before) by its current matrix.
 bool readText(std::string_view text, const std::string& path, const VrmlOptions& options,
               std::vector<std::string>& inline_stack, Scene& scene, Diagnostics& diagnostics);
-
-// What a mesh of this many vertices and triangles holds through the import (its arrays, the
-// copies hard-edge splitting may add, validation's scratch): asked of the budget before it is built.
-double meshBytesEstimate(double vertices, double triangles);
-
-// The located error for geometry that does not fit the budget.
-std::string overBudgetMessage(const std::string& what, double meshes, double triangles, double bytes,
-                              const MemoryGauge& memory);
 
 // Limits `light` to the meshes first_mesh .. end_mesh - 1: the ones a VRML grouping node
 // (VRML97 DirectionalLight) or Separator (VRML 1.0 light) holds.
