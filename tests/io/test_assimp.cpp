@@ -739,6 +739,9 @@ TEST_CASE("fuzz: an OBJ statement naming a vertex that is not there is refused b
                     10, "single vertex");
     checkObjRefused(dir.write("later.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\no a\nf 1 2 3\no b\nf 1 2 9\n"), 7,
                     "names vertex 9, but the file defines 3 vertices");
+    // Of an extension no importer claims, the OBJ importer may take it by its content.
+    checkObjRefused(dir.write("later.data", "v 0 0 0\nv 1 0 0\nv 0 1 0\no a\nf 1 2 3\no b\nf 1 2 9\n"), 7,
+                    "names vertex 9, but the file defines 3 vertices");
     checkObjRefused(dir.write("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\nv 0 0 1\n"), 4, "names vertex -4");
     // A vertex inside a cstype section is not a vertex to Assimp.
     checkObjRefused(dir.write("cstype.obj", "v 0 0 0\nv 1 0 0\ncstype bspline\nv 0 1 0\nend\nf 1 2 3\n"), 6,
