@@ -553,7 +553,7 @@ void keepClaimingImporters(Assimp::Importer& importer, const std::string& path,
 }
 
 bool importLocked(const std::string& path, Scene& scene, Diagnostics& diagnostics, const AssimpReads& reads) {
-    if (!checkLeftOutFormat(path, diagnostics) || !checkPlyInput(path, diagnostics) ||
+    if (!checkLeftOutFormat(path, diagnostics) || !checkPlyInput(path, reads.policy->max_bytes, diagnostics) ||
         !checkGltfInput(path, reads.policy->max_bytes, diagnostics))
         return false;
     ScopedLogger logger(path, diagnostics);

@@ -1,14 +1,18 @@
 #pragma once
 // A check before Assimp sees a PLY file, for inputs that make Assimp 5.2.5 misbehave
 // (docs/fuzzing.md). Internal to the Assimp reader.
+#include <cstddef>
 #include <string>
 
 #include "core/diagnostics.h"
 
 namespace radbake {
 
-// True when `path` does not start with the PLY magic, or its header ends where Assimp's PLY
-// importer can find the end. Otherwise reports a located error and returns false.
-bool checkPlyInput(const std::string& path, Diagnostics& diagnostics);
+// True when `path` is not PLY as Assimp's importer tells (its first line starts with `ply`),
+// or is larger than `max_bytes` (the reader refuses it), or is a PLY file Assimp reads without
+// harm. Otherwise reports a located error and returns false: a header without an end_header
+// line Assimp finds, or an element whose count (as Assimp reads it) cannot fit in the bytes
+// after the header.
+bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics);
 
 }  // namespace radbake

@@ -1,0 +1,211 @@
+// The PLY check before Assimp (src/io/assimp/ply_guard.cpp) through radbake::importScene:
+// inputs that make Assimp 5.2.5's PLY importer misbehave end in a located error, ordinary PLY
+// files still read (docs/fuzzing.md, findings 5 and 11).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include "io/import.h"
+
+namespace fs = std::filesystem;
+using namespace radbake;
+
+namespace {
+
+// A fresh directory per test, removed afterwards.
+struct PlyDir {
+    fs::path path = fs::temp_directory_path() / ("radbake_ply_guard_" + std::to_string(::getpid()));
+    PlyDir() { fs::create_directories(path); }
+    ~PlyDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    std::string write(const std::string& name, const std::string& bytes) const {
+        const fs::path file = path / name;
+        std::ofstream(file, std::ios::binary) << bytes;
+        return file.string();
+    }
+};
+
+// The one error importScene reports for `bytes` written as input.ply.
+Diagnostic refusal(const std::string& bytes) {
+    PlyDir dir;
+    const std::string path = dir.write("input.ply", bytes);
+    Diagnostics diagnostics;
+    CHECK_FALSE(importScene(path, {}, diagnostics));
+    REQUIRE(diagnostics.errorCount() == 1);
+    const Diagnostic error = diagnostics.all().back();
+    CHECK(error.location.file == path);
+    return error;
+}
+
+// The scene read from `bytes` written as input.ply, which must read without errors.
+Scene accepted(const std::string& bytes) {
+    PlyDir dir;
+    Diagnostics diagnostics;
+    std::optional<Scene> scene = importScene(dir.write("input.ply", bytes), {}, diagnostics);
+    for (const Diagnostic& d : diagnostics.all()) CAPTURE(d.message);
+    REQUIRE(scene);
+    CHECK(diagnostics.errorCount() == 0);
+    return *scene;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Binary values in either byte order.
+struct Binary {
+    bool big_endian = false;
+    std::string bytes;
+    template <class T>
+    Binary& put(T value) {
+        char raw[sizeof(T)];
+        std::memcpy(raw, &value, sizeof(T));
+        if (big_endian != (std::endian::native == std::endian::big)) std::reverse(raw, raw + sizeof(T));
+        bytes.append(raw, sizeof(T));
+        return *this;
+    }
+};
+
+enum class Format { Ascii, LittleEndian, BigEndian };
+
+// A unit square as two triangles and, beside it, a quad: 8 vertices with normals, colours
+// and texture coordinates, 3 faces (4 triangles), in the given format. `vertex_extra` and
+// `face_extra` go into the header after the vertex and face elements (comments, obj_info).
+std::string squaresPly(Format format, const std::string& vertex_extra = "", const std::string& face_extra = "") {
+    const float p[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {3, 0, 0}, {3, 1, 0}, {2, 1, 0}};
+    const int faces[3][4] = {{0, 1, 2, -1}, {0, 2, 3, -1}, {4, 5, 6, 7}};
+    std::string header = "ply\nformat ";
+    header += format == Format::Ascii ? "ascii" : format == Format::LittleEndian ? "binary_little_endian" : "binary_big_endian";
+    header += " 1.0\ncomment made by hand\nobj_info a comment Assimp does not know\nelement vertex 8\n"
+              "property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n"
+              "property float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+              "property float u\nproperty float v\n" +
+              vertex_extra + "element face 3\nproperty list uchar int vertex_indices\n" + face_extra + "end_header\n";
+    if (format == Format::Ascii) {
+        std::string body;
+        for (const auto& v : p)
+            body += std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]) + " 0 0 1 200 100 50 " +
+                    std::to_string(v[0]) + " " + std::to_string(v[1]) + "\n";
+        for (const auto& f : faces) {
+            const int n = f[3] < 0 ? 3 : 4;
+            body += std::to_string(n);
+            for (int i = 0; i < n; ++i) body += " " + std::to_string(f[i]);
+            body += "\n";
+        }
+        return header + body;
+    }
+    Binary body{format == Format::BigEndian, ""};
+    for (const auto& v : p)
+        body.put(v[0]).put(v[1]).put(v[2]).put(0.0f).put(0.0f).put(1.0f).put(uint8_t{200}).put(uint8_t{100})
+            .put(uint8_t{50}).put(v[0]).put(v[1]);
+    for (const auto& f : faces) {
+        const int n = f[3] < 0 ? 3 : 4;
+        body.put(static_cast<uint8_t>(n));
+        for (int i = 0; i < n; ++i) body.put(static_cast<int32_t>(f[i]));
+    }
+    return header + body.bytes;
+}
+
+// The number of a line in `text` where `part` first appears (1-based).
+int lineOf(const std::string& text, const std::string& part) {
+    const size_t at = text.find(part);
+    REQUIRE(at != std::string::npos);
+    return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+}  // namespace
+
+TEST_CASE("PLY check: ordinary ASCII and binary (both byte orders) files still read") {
+    for (const Format format : {Format::Ascii, Format::LittleEndian, Format::BigEndian}) {
+        CAPTURE(static_cast<int>(format));
+        const Scene scene = accepted(squaresPly(format));
+        REQUIRE(scene.meshes.size() == 1);
+        const Mesh& mesh = scene.meshes[0];
+        CHECK(mesh.positions.size() == 8);
+        CHECK(mesh.polygon_count == 3);
+        CHECK(mesh.triangles.size() == 4);
+        CHECK(mesh.normals.size() == 8);
+        CHECK(mesh.uv0.size() == 8);
+        CHECK(mesh.vertex_colors.size() == 8);
+        // A CRLF file reads the same.
+        if (format == Format::Ascii) {
+            std::string crlf;
+            for (const char c : squaresPly(format)) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+            CHECK(accepted(crlf).meshes.at(0).triangles.size() == 4);
+        }
+    }
+}
+
+TEST_CASE("fuzz: a PLY element count that cannot fit in the file is a located error before Assimp reads it") {
+    // fuzz_assimp_ply, 30 minutes (docs/fuzzing.md, finding 11): a garbled element line whose
+    // name is a long number. Assimp 5.2.5 reads an unknown element's count from the start of
+    // its name, modulo 2^32 (1107328640), and reserves 24 bytes per instance: 26 GB, an
+    // out-of-memory report under ASan, std::bad_alloc without.
+    const std::string garbled = std::string("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                                            "property float y\nproperty float z\n") +
+                                "element 66666666666666000000 uchar int vertex_indices\nproperty uchar a\nend_header\n" +
+                                std::string(36, '\0');
+    Diagnostic error = refusal(garbled);
+    CHECK(error.location.line == lineOf(garbled, "element 6666"));
+    CHECK(error.location.column == 1);
+    CHECK(contains(error.message, "'66666666666666000000' declares 1107328640 instances"));
+    CHECK(contains(error.message, "but only 36 bytes follow the header"));
+
+    // A plain count too large for the body, binary and ASCII.
+    std::string binary = squaresPly(Format::LittleEndian);
+    binary.replace(binary.find("vertex 8"), 8, "vertex 4000000000");
+    error = refusal(binary);
+    CHECK(error.location.line == lineOf(binary, "element vertex"));
+    CHECK(contains(error.message, "PLY element 'vertex' declares 4000000000 instances of at least 35 bytes but only"));
+    std::string ascii = squaresPly(Format::Ascii);
+    ascii.replace(ascii.find("face 3"), 6, "face 3000");
+    error = refusal(ascii);
+    CHECK(error.location.line == lineOf(ascii, "element face"));
+    CHECK(contains(error.message, "PLY element 'face' declares 3000 instances of at least 2 bytes but only"));
+
+    // A count with trailing garbage is what Assimp reads of it, here too large; one that
+    // wraps is read modulo 2^32.
+    std::string trailing = squaresPly(Format::Ascii);
+    trailing.replace(trailing.find("face 3"), 6, "face 1200x");
+    CHECK(contains(refusal(trailing).message, "PLY element 'face' declares 1200 instances of at least 2 bytes"));
+    std::string wraps = squaresPly(Format::Ascii);
+    wraps.replace(wraps.find("face 3"), 6, "face 4294968296");
+    CHECK(contains(refusal(wraps).message,
+                   "PLY element 'face' declares 1000 instances (Assimp 5.2.5 reads the count from '4294968296' modulo 2^32)"));
+
+    // Elements without properties take a byte each: Assimp loops once per instance.
+    const std::string empty_elements = squaresPly(Format::LittleEndian, "", "element edge 100000\n");
+    error = refusal(empty_elements);
+    CHECK(error.location.line == lineOf(empty_elements, "element edge"));
+    CHECK(contains(error.message, "PLY element 'edge' declares 100000 instances but only 323 bytes follow the header"));
+
+    // Each element fits, all of them together do not.
+    const std::string together =
+        "ply\nformat binary_little_endian 1.0\nelement edge 30\nelement edge 30\nend_header\n" + std::string(40, '\0');
+    error = refusal(together);
+    CHECK(error.location.line == 4);
+    CHECK(contains(error.message, "'edge' declares 30 instances, 60 instances in all up to here of at least 60 "
+                                  "bytes, but only 40 bytes follow the header"));
+
+    // Assimp reads the count of an element it does not know from the start of its name, so
+    // a large count after an ordinary name is no count at all to it, and harmless.
+    CHECK(accepted(squaresPly(Format::LittleEndian, "", "element unknown 4000000000\n")).meshes.at(0).triangles.size() == 4);
+}
+
+TEST_CASE("fuzz: PLY magic after blank lines is still checked (Assimp skips them)") {
+    // Assimp's PLY importer finds the magic on the first line after any line ends, so a file
+    // starting with a line end still reaches it: finding 2a's input behind a '\n' was a SEGV.
+    for (const std::string& text : {std::string("\nply\nformat binary_tm\0\0", 23), std::string("\r\nply\nformat binary_tm\0\0", 24)}) {
+        const Diagnostic error = refusal(text);
+        CHECK(error.location.line == 2);
+        CHECK(contains(error.message, "end_header"));
+    }
+    CHECK(accepted("\n" + squaresPly(Format::Ascii)).meshes.at(0).triangles.size() == 4);
+}
