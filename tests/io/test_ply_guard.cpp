@@ -209,3 +209,49 @@ TEST_CASE("fuzz: PLY magic after blank lines is still checked (Assimp skips them
     }
     CHECK(accepted("\n" + squaresPly(Format::Ascii)).meshes.at(0).triangles.size() == 4);
 }
+
+TEST_CASE("fuzz: a PLY file with a second face or vertex element is a located error before Assimp reads it") {
+    // fuzz_assimp_ply (docs/fuzzing.md, finding 5), minimized: two face elements. Assimp
+    // 5.2.5 reads every face element into the face array of the first, at each instance's
+    // index within its own element: the second face's index array replaces the first's, whose
+    // 40 bytes leak (the body is short, so the lists' lengths come from Assimp's '\n' padding).
+    const std::string minimized("ply\nformat binary_ rpe\nelement vertex 4\nproperty float x\np nz\nelement face 1\n"
+                                "property list uchar int vertex_indices\nz\nelement face 1\n"
+                                "property list uchar int vertex_indices\nend_header\n\0\x03",
+                                185);
+    Diagnostic error = refusal(minimized);
+    CHECK(error.location.line == 9);
+    CHECK(error.location.column == 1);
+    CHECK(contains(error.message, "PLY element 'face' is a second face element (the first, 'face', is on line 6)"));
+
+    // The same with a body that holds every value: a triangle, then a second face element.
+    Binary body;
+    body.put(0.0f).put(0.0f).put(0.0f).put(1.0f).put(0.0f).put(0.0f).put(0.0f).put(1.0f).put(0.0f);
+    body.put(uint8_t{3}).put(int32_t{0}).put(int32_t{1}).put(int32_t{2});
+    body.put(uint8_t{3}).put(int32_t{2}).put(int32_t{1}).put(int32_t{0});
+    body.put(uint8_t{3}).put(int32_t{0}).put(int32_t{2}).put(int32_t{1});
+    const std::string faces = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                              "property float y\nproperty float z\nelement face 1\n"
+                              "property list uchar int vertex_indices\nelement face 2\n"
+                              "property list uchar int vertex_indices\nend_header\n" +
+                              body.bytes;
+    error = refusal(faces);
+    CHECK(error.location.line == 9);
+    CHECK(contains(error.message, "is a second face element"));
+
+    // A tristrips element after a face element goes to the same array.
+    std::string strips = squaresPly(Format::Ascii, "", "element tristrips 1\nproperty list int int vertex_indices\n");
+    strips += "3 0 1 2\n";
+    error = refusal(strips);
+    CHECK(error.location.line == lineOf(strips, "element tristrips"));
+    CHECK(contains(error.message, "PLY element 'tristrips' is a second face element (the first, 'face', is on line"));
+
+    // A second vertex element: Assimp writes its instances into the first one's arrays, past
+    // their end when it is longer (heap corruption Assimp's own code does not notice).
+    std::string vertices = squaresPly(Format::Ascii, "element vertex 20\nproperty float x\nproperty float y\nproperty float z\n");
+    const size_t faces_at = vertices.find("3 0 1 2\n");
+    for (int i = 0; i < 20; ++i) vertices.insert(faces_at, "1 1 1\n");
+    error = refusal(vertices);
+    CHECK(error.location.line == lineOf(vertices, "element vertex 20"));
+    CHECK(contains(error.message, "PLY element 'vertex' is a second vertex element (the first, 'vertex', is on line 5)"));
+}

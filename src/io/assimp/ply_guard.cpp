@@ -489,6 +489,33 @@ HeaderRead readHeader(AssimpStream& stream, LineBuffer& b, PlyHeader& header) {
 
 std::string elementName(const PlyElement& element) { return printable(element.name); }
 
+// Finding 5: PLYImporter::LoadVertex and LoadFace fill one vertex array and one face array,
+// allocated for the first vertex element and the first face (or tristrips) element, at the
+// instance's index within its own element. A second such element overwrites the first one's
+// face index arrays (a leak) and writes past the arrays when it has more instances.
+bool checkOneOfEach(const std::string& path, std::ifstream& in, const PlyHeader& header, Diagnostics& diagnostics) {
+    const PlyElement* first_vertex = nullptr;
+    const PlyElement* first_face = nullptr;
+    for (const PlyElement& element : header.elements) {
+        const bool vertex = element.kind == ElementKind::Vertex;
+        const bool face = element.kind == ElementKind::Face || element.kind == ElementKind::TriStrip;
+        if (!vertex && !face) continue;
+        const PlyElement*& first = vertex ? first_vertex : first_face;
+        if (first == nullptr) {
+            first = &element;
+            continue;
+        }
+        const std::string what = vertex ? "vertex" : "face";
+        diagnostics.error(locateOffset(path, in, element.offset),
+                          "PLY element " + elementName(element) + " is a second " + what + " element (the first, " +
+                              elementName(*first) + ", is on line " +
+                              std::to_string(locateOffset(path, in, first->offset).line) + "): Assimp 5.2.5 reads both into one " +
+                              what + " array sized for the first, leaking or writing past it");
+        return false;
+    }
+    return true;
+}
+
 // The smallest number of bytes one instance of `element` takes: in binary its fixed-size
 // values and list lengths; in ASCII a token and a separator per property. At least one byte
 // even with no properties, so that a count cannot outgrow the file.
@@ -564,7 +591,7 @@ bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagn
         return false;
     case HeaderRead::Parsed: break;
     }
-    return checkCounts(path, in, header, file_size, diagnostics);
+    return checkOneOfEach(path, in, header, diagnostics) && checkCounts(path, in, header, file_size, diagnostics);
 }
 
 }  // namespace radbake
