@@ -516,6 +516,20 @@ bool checkOneOfEach(const std::string& path, std::ifstream& in, const PlyHeader&
     return true;
 }
 
+// PLYImporter::LoadFace builds each triangle of a strip into the same face, leaking the
+// indices of the one before: Assimp 5.2.5 keeps the last triangle of each strip. Strips are
+// refused rather than read wrong.
+bool checkNoStrips(const std::string& path, std::ifstream& in, const PlyHeader& header, Diagnostics& diagnostics) {
+    for (const PlyElement& element : header.elements) {
+        if (element.kind != ElementKind::TriStrip || element.count == 0) continue;
+        diagnostics.error(locateOffset(path, in, element.offset),
+                          "PLY element 'tristrips' is not read: Assimp 5.2.5 keeps only the last triangle of each "
+                          "strip (and leaks the others); write the triangles as a face element");
+        return false;
+    }
+    return true;
+}
+
 // The smallest number of bytes one instance of `element` takes: in binary its fixed-size
 // values and list lengths; in ASCII a token and a separator per property. At least one byte
 // even with no properties, so that a count cannot outgrow the file.
@@ -591,7 +605,8 @@ bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagn
         return false;
     case HeaderRead::Parsed: break;
     }
-    return checkOneOfEach(path, in, header, diagnostics) && checkCounts(path, in, header, file_size, diagnostics);
+    return checkOneOfEach(path, in, header, diagnostics) && checkNoStrips(path, in, header, diagnostics) &&
+           checkCounts(path, in, header, file_size, diagnostics);
 }
 
 }  // namespace radbake

@@ -11,8 +11,9 @@ namespace radbake {
 // True when `path` is not PLY as Assimp's importer tells (its first line starts with `ply`),
 // or is larger than `max_bytes` (the reader refuses it), or is a PLY file Assimp reads without
 // harm. Otherwise reports a located error and returns false: a header without an end_header
-// line Assimp finds, a second vertex element or a second face (or tristrips) element, or an
-// element whose count (as Assimp reads it) cannot fit in the bytes after the header.
+// line Assimp finds, a second vertex element or a second face (or tristrips) element, triangle
+// strips (Assimp reads them wrong), or an element whose count (as Assimp reads it) cannot fit
+// in the bytes after the header.
 bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics);
 
 }  // namespace radbake
