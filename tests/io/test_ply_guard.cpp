@@ -267,3 +267,33 @@ TEST_CASE("PLY triangle strips are a located error: Assimp 5.2.5 keeps one trian
     CHECK(error.location.line == 7);
     CHECK(contains(error.message, "PLY element 'tristrips' is not read"));
 }
+
+TEST_CASE("PLY properties Assimp 5.2.5 reads through missing others are a located error") {
+    // Found reading PlyLoader.cpp: a face's texcoord list is read through its vertex_indices
+    // list (without one, through a null pointer: SEGV), a material's opacity at the index of
+    // its specular_power (without one, an exception after the mesh is built: it leaks).
+    const std::string vertices = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string texcoords = "ply\nformat ascii 1.0\n" + vertices +
+                                  "element face 1\nproperty list uchar float texcoord\nend_header\n"
+                                  "0 0 0\n1 0 0\n0 1 0\n6 0 0 1 0 0 1\n";
+    Diagnostic error = refusal(texcoords);
+    CHECK(error.location.line == 7);
+    CHECK(contains(error.message, "PLY element 'face' has a texcoord list but no vertex_indices list"));
+    const std::string opacity = "ply\nformat ascii 1.0\n" + vertices +
+                                "element face 1\nproperty list uchar int vertex_indices\n"
+                                "element material 1\nproperty float opacity\nend_header\n"
+                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0.5\n";
+    error = refusal(opacity);
+    CHECK(error.location.line == 9);
+    CHECK(contains(error.message, "PLY element 'material' has an opacity but no specular_power property"));
+
+    // With both, each reads.
+    std::string both = texcoords;
+    both.replace(both.find("property list uchar float texcoord"), 0, "property list uchar int vertex_indices\n");
+    both.replace(both.find("6 0 0 1"), 0, "3 0 1 2 ");
+    CHECK(accepted(both).meshes.at(0).triangles.size() == 1);
+    std::string phong = opacity;
+    phong.replace(phong.find("property float opacity"), 0, "property float specular_power\n");
+    phong.replace(phong.find("0.5\n"), 0, "2 ");
+    CHECK(accepted(phong).meshes.at(0).triangles.size() == 1);
+}

@@ -530,6 +530,37 @@ bool checkNoStrips(const std::string& path, std::ifstream& in, const PlyHeader& 
     return true;
 }
 
+bool hasProperty(const PlyElement& element, PropertyUse use, bool list) {
+    return std::any_of(element.properties.begin(), element.properties.end(),
+                       [&](const PlyProperty& p) { return p.use == use && p.list == list; });
+}
+
+// Two properties Assimp 5.2.5 reads through others that may be missing (found reading
+// PlyLoader.cpp): a face's texcoord list through its vertex_indices list (605; without one,
+// through a null pointer: a SEGV), and the first material element's opacity at the index of
+// its specular_power (857; without one the lookup throws after the mesh is built, which leaks).
+bool checkPropertyPairs(const std::string& path, std::ifstream& in, const PlyHeader& header, Diagnostics& diagnostics) {
+    bool first_material = true;
+    for (const PlyElement& element : header.elements) {
+        std::string problem;
+        if (element.kind == ElementKind::Face && hasProperty(element, PropertyUse::TextureCoordinates, true) &&
+            !hasProperty(element, PropertyUse::VertexIndex, true))
+            problem = "has a texcoord list but no vertex_indices list: Assimp 5.2.5 reads the texture coordinates "
+                      "through the missing indices (a crash)";
+        if (element.kind == ElementKind::Material) {
+            if (first_material && hasProperty(element, PropertyUse::Opacity, false) &&
+                !hasProperty(element, PropertyUse::PhongPower, false))
+                problem = "has an opacity but no specular_power property: Assimp 5.2.5 looks the opacity up at "
+                          "specular_power's place, fails, and leaks the mesh";
+            first_material = false;
+        }
+        if (problem.empty() || element.count == 0) continue;
+        diagnostics.error(locateOffset(path, in, element.offset), "PLY element " + elementName(element) + " " + problem);
+        return false;
+    }
+    return true;
+}
+
 // The smallest number of bytes one instance of `element` takes: in binary its fixed-size
 // values and list lengths; in ASCII a token and a separator per property. At least one byte
 // even with no properties, so that a count cannot outgrow the file.
@@ -606,7 +637,7 @@ bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagn
     case HeaderRead::Parsed: break;
     }
     return checkOneOfEach(path, in, header, diagnostics) && checkNoStrips(path, in, header, diagnostics) &&
-           checkCounts(path, in, header, file_size, diagnostics);
+           checkPropertyPairs(path, in, header, diagnostics) && checkCounts(path, in, header, file_size, diagnostics);
 }
 
 }  // namespace radbake

@@ -12,8 +12,9 @@ namespace radbake {
 // or is larger than `max_bytes` (the reader refuses it), or is a PLY file Assimp reads without
 // harm. Otherwise reports a located error and returns false: a header without an end_header
 // line Assimp finds, a second vertex element or a second face (or tristrips) element, triangle
-// strips (Assimp reads them wrong), or an element whose count (as Assimp reads it) cannot fit
-// in the bytes after the header.
+// strips (Assimp reads them wrong), a face texcoord list without a vertex_indices list or a
+// material opacity without a specular_power (Assimp reads one through the other), or an
+// element whose count (as Assimp reads it) cannot fit in the bytes after the header.
 bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics);
 
 }  // namespace radbake
