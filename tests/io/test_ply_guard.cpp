@@ -297,3 +297,54 @@ TEST_CASE("PLY properties Assimp 5.2.5 reads through missing others are a locate
     phong.replace(phong.find("0.5\n"), 0, "2 ");
     CHECK(accepted(phong).meshes.at(0).triangles.size() == 1);
 }
+
+TEST_CASE("fuzz: binary PLY data that runs past the end of the file is a located error before Assimp reads it") {
+    // Past the file's end Assimp 5.2.5 reads the '\n' bytes its buffer starts with, as values
+    // and as list lengths, and once past its buffer throws "File corrupted", leaking the mesh
+    // (found with fuzz_assimp_ply's build: 1.3 KB and the vertex array per file).
+    std::string truncated = squaresPly(Format::LittleEndian);
+    truncated.resize(truncated.size() - 4);  // the quad's last index
+    Diagnostic error = refusal(truncated);
+    CHECK(error.location.line == lineOf(truncated, "element face"));
+    CHECK(contains(error.message, "PLY element 'face' runs past the end of the file: its instance 3 of 3 has a list "
+                                  "'vertex_indices' of 4 entries, more than the file's last 12 bytes hold"));
+    // Values of fixed size after the lists, big endian: the lists take more than the counts
+    // alone tell, so the last edge is cut.
+    std::string edges = squaresPly(Format::BigEndian, "", "element edge 2\nproperty int vertex1\nproperty int vertex2\n");
+    edges += std::string(12, '\0');
+    error = refusal(edges);
+    CHECK(error.location.line == lineOf(edges, "element edge"));
+    CHECK(contains(error.message, "PLY element 'edge' runs past the end of the file: its instance 2 of 2 ends after "
+                                  "the file's last byte"));
+
+    // A list length Assimp reads as 4294967295 (an int -1): it would reserve 32 GB.
+    const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+    Binary body;
+    for (int i = 0; i < 9; ++i) body.put(0.0f);
+    body.put(int32_t{-1}).put(int32_t{0}).put(int32_t{1}).put(int32_t{2});
+    error = refusal(header + body.bytes);
+    CHECK(error.location.line == 7);
+    CHECK(contains(error.message, "list 'vertex_indices' of 4294967295 entries"));
+
+    // A list length that is a float: Assimp converts it unchecked (here to 1410065408 entries).
+    std::string float_length = header;
+    float_length.replace(float_length.find("list int int"), 12, "list float int");
+    Binary float_body;
+    for (int i = 0; i < 9; ++i) float_body.put(0.0f);
+    float_body.put(1e10f).put(int32_t{0}).put(int32_t{1}).put(int32_t{2});
+    error = refusal(float_length + float_body.bytes);
+    CHECK(error.location.line == 7);
+    CHECK(contains(error.message, "has a list 'vertex_indices' whose length is a floating-point number"));
+
+    // Lengths of other sizes, in both byte orders, still read.
+    for (const bool big_endian : {false, true}) {
+        std::string lengths = header;
+        lengths.replace(lengths.find("little"), 6, big_endian ? "big" : "little");
+        lengths.replace(lengths.find("list int int"), 12, "list ushort uint");
+        Binary triangle{big_endian, ""};
+        triangle.put(0.0f).put(0.0f).put(0.0f).put(1.0f).put(0.0f).put(0.0f).put(0.0f).put(1.0f).put(0.0f);
+        triangle.put(uint16_t{3}).put(uint32_t{0}).put(uint32_t{1}).put(uint32_t{2});
+        CHECK(accepted(lengths + triangle.bytes).meshes.at(0).triangles.size() == 1);
+    }
+}

@@ -606,6 +606,107 @@ bool checkCounts(const std::string& path, std::ifstream& in, const PlyHeader& he
     return true;
 }
 
+// Assimp converts a list's length to unsigned int unchecked (PLY::PropertyInstance::ConvertTo):
+// from a float that is undefined, and can be any size. A length is a whole number.
+bool checkListLengths(const std::string& path, std::ifstream& in, const PlyHeader& header, Diagnostics& diagnostics) {
+    for (const PlyElement& element : header.elements)
+        for (const PlyProperty& property : element.properties) {
+            if (!property.list || (property.count_type != PlyType::Float && property.count_type != PlyType::Double))
+                continue;
+            diagnostics.error(locateOffset(path, in, element.offset),
+                              "PLY element " + elementName(element) + " has a list " + printable(property.name) +
+                                  " whose length is a floating-point number: a list length must be a whole number");
+            return false;
+        }
+    return true;
+}
+
+// The file's bytes at increasing offsets, through a window.
+class ByteWindow {
+public:
+    ByteWindow(std::ifstream& in, uint64_t size) : in_(in), size_(size) {}
+    // `count` (at most 8) bytes at `offset`, which lie in the file.
+    void read(uint64_t offset, size_t count, unsigned char* out) {
+        if (offset < start_ || offset + count > start_ + window_.size()) {
+            start_ = offset;
+            window_.resize(static_cast<size_t>(std::min<uint64_t>(size_t(1) << 16, size_ - offset)));
+            in_.clear();
+            in_.seekg(static_cast<std::streamoff>(offset));
+            in_.read(reinterpret_cast<char*>(window_.data()), static_cast<std::streamsize>(window_.size()));
+        }
+        std::memcpy(out, window_.data() + (offset - start_), count);
+    }
+
+private:
+    std::ifstream& in_;
+    uint64_t size_;
+    uint64_t start_ = 0;
+    std::vector<unsigned char> window_;
+};
+
+// A binary list length as Assimp makes it: the value in the file's byte order, then
+// converted to unsigned int (a negative signed one wraps).
+uint32_t binaryListLength(const unsigned char* raw, PlyType type, bool big_endian) {
+    const size_t size = binarySize(type);
+    uint32_t value = 0;
+    for (size_t i = 0; i < size; ++i) value |= uint32_t{raw[big_endian ? size - 1 - i : i]} << (8 * i);
+    switch (type) {
+    case PlyType::Char: return static_cast<uint32_t>(static_cast<int32_t>(static_cast<int8_t>(value)));
+    case PlyType::Short: return static_cast<uint32_t>(static_cast<int32_t>(static_cast<int16_t>(value)));
+    default: return value;
+    }
+}
+
+// Binary data must lie within the file: past its end Assimp 5.2.5 reads the '\n' bytes its
+// buffer starts with (or an earlier block's), as values and as list lengths (up to 168
+// million entries of 8 bytes from an int length), and then throws "File corrupted", leaking the
+// mesh it was building. Each list's length is read as Assimp reads it; its entries must fit.
+bool checkBinaryBody(const std::string& path, std::ifstream& in, const PlyHeader& header, uint64_t file_size,
+                     Diagnostics& diagnostics) {
+    ByteWindow window(in, file_size);
+    uint64_t at = header.body;
+    const auto refuse = [&](const PlyElement& element, uint64_t instance, const std::string& what) {
+        diagnostics.error(locateOffset(path, in, element.offset),
+                          "PLY element " + elementName(element) + " runs past the end of the file: its instance " +
+                              std::to_string(instance + 1) + " of " + std::to_string(element.count) + " " + what +
+                              " (Assimp 5.2.5 would read on into whatever its buffer holds)");
+        return false;
+    };
+    for (const PlyElement& element : header.elements) {
+        if (element.kind == ElementKind::TextureFile) continue;
+        const bool lists = std::any_of(element.properties.begin(), element.properties.end(),
+                                       [](const PlyProperty& p) { return p.list; });
+        if (!lists) {  // instances of one size
+            uint64_t unit = 0;
+            for (const PlyProperty& property : element.properties) unit += binarySize(property.type);
+            if (unit * element.count > file_size - at)
+                return refuse(element, (file_size - at) / unit, "ends after the file's last byte");
+            at += unit * element.count;
+            continue;
+        }
+        for (uint64_t i = 0; i < element.count; ++i)
+            for (const PlyProperty& property : element.properties) {
+                const size_t size = binarySize(property.list ? property.count_type : property.type);
+                if (size > file_size - at) return refuse(element, i, "ends after the file's last byte");
+                if (!property.list) {
+                    at += size;
+                    continue;
+                }
+                unsigned char raw[8];
+                window.read(at, size, raw);
+                at += size;
+                const uint64_t entries = binaryListLength(raw, property.count_type, header.big_endian);
+                if (entries * binarySize(property.type) > file_size - at)
+                    return refuse(element, i,
+                                  "has a list " + printable(property.name) + " of " + std::to_string(entries) +
+                                      " entries, more than the file's last " + std::to_string(file_size - at) +
+                                      " bytes hold");
+                at += entries * binarySize(property.type);
+            }
+    }
+    return true;
+}
+
 }  // namespace
 
 bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics) {
@@ -637,7 +738,9 @@ bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagn
     case HeaderRead::Parsed: break;
     }
     return checkOneOfEach(path, in, header, diagnostics) && checkNoStrips(path, in, header, diagnostics) &&
-           checkPropertyPairs(path, in, header, diagnostics) && checkCounts(path, in, header, file_size, diagnostics);
+           checkPropertyPairs(path, in, header, diagnostics) && checkListLengths(path, in, header, diagnostics) &&
+           checkCounts(path, in, header, file_size, diagnostics) &&
+           (!header.binary || checkBinaryBody(path, in, header, file_size, diagnostics));
 }
 
 }  // namespace radbake
