@@ -348,3 +348,40 @@ TEST_CASE("fuzz: binary PLY data that runs past the end of the file is a located
         CHECK(accepted(lengths + triangle.bytes).meshes.at(0).triangles.size() == 1);
     }
 }
+
+TEST_CASE("fuzz: ASCII PLY values Assimp throws on, lists longer than their line, missing lines: located errors") {
+    // Assimp 5.2.5's ASCII number parser throws on a value that is not a number, after the
+    // mesh is built, which then leaks (found with fuzz_assimp_ply's build: 1.3 KB per file);
+    // a list's length is reserved before its entries are read (a char -1 is 4294967295
+    // entries, 32 GB); an instance past the last line parses that line again.
+    std::string garbage = squaresPly(Format::Ascii);
+    const size_t second_vertex = garbage.find("\n1.000000 0.000000 0.000000") + 1;
+    garbage.replace(second_vertex + 18, 8, "zz");
+    Diagnostic error = refusal(garbage);
+    CHECK(error.location.line == lineOf(garbage, "1.000000 0.000000 zz"));
+    CHECK(error.location.column == 19);
+    CHECK(contains(error.message, "PLY element 'vertex' instance 2 of 8: Assimp 5.2.5 cannot read 'zz' as a number for 'z'"));
+    std::string exponent = squaresPly(Format::Ascii);
+    exponent.replace(exponent.find(" 200 100 50 "), 0, "e");  // the first vertex's nz reads "1e"
+    CHECK(contains(refusal(exponent).message, "cannot read '1e' as a number for 'nz'"));
+
+    std::string long_list = squaresPly(Format::Ascii);
+    long_list.replace(long_list.find("list uchar int"), 14, "list char int");
+    long_list.replace(long_list.find("\n3 0 1 2\n") + 1, 1, "-1");
+    error = refusal(long_list);
+    CHECK(error.location.line == lineOf(long_list, "-1 0 1 2"));
+    CHECK(error.location.column == 1);
+    CHECK(contains(error.message, "PLY element 'face' instance 1 of 3 has a list 'vertex_indices' of 4294967295 entries "
+                                  "on a line with room for 6"));
+
+    std::string short_body = squaresPly(Format::Ascii);
+    short_body.resize(short_body.rfind("4 4 5 6 7"));  // the quad's line
+    error = refusal(short_body);
+    CHECK(error.location.line == lineOf(short_body, "element face"));
+    CHECK(contains(error.message, "PLY element 'face' declares 3 instances, a line each, but the file ends before instance 3"));
+
+    // Numbers Assimp reads: signs, exponents.
+    std::string numbers = squaresPly(Format::Ascii);
+    numbers.replace(numbers.find("\n0.000000 0.000000 0.000000") + 1, 26, "-0.0e+0 +0 0.0e-3");
+    CHECK(accepted(numbers).meshes.at(0).triangles.size() == 4);
+}

@@ -169,6 +169,7 @@ public:
         buffer.startLine();
         line_start_ = position();
         line_length_ = 0;
+        delivered_ = false;
         if (cache_pos_ == cache_size_ || file_pos_ == 0) {
             if (!readBlock()) return false;
         }
@@ -186,6 +187,7 @@ public:
             buffer.data()[i] = cache_[cache_pos_];
             ++cache_pos_;
             ++i;
+            delivered_ = true;
             if (i == buffer.size()) buffer.resize(buffer.size() * 2);
             if (cache_pos_ >= cache_size_) {
                 line_length_ = i;
@@ -195,8 +197,12 @@ public:
         buffer.data()[i] = '\n';
         ++cache_pos_;
         line_length_ = i;
+        delivered_ = true;
         return true;
     }
+
+    // Whether the last nextLine put a line, or the start of one, in the buffer.
+    bool delivered() const { return delivered_ && !overrun_; }
 
     // The file offset of the next byte Assimp reads.
     uint64_t position() const { return file_pos_ == 0 ? 0 : file_pos_ - cache_size_ + cache_pos_; }
@@ -240,6 +246,7 @@ private:
     uint64_t file_pos_ = 0;
     uint64_t line_start_ = 0;
     size_t line_length_ = 0;
+    bool delivered_ = false;
     bool overrun_ = false;
 };
 
@@ -707,6 +714,115 @@ bool checkBinaryBody(const std::string& path, std::ifstream& in, const PlyHeader
     return true;
 }
 
+// What Assimp's number parsers throw, here (its own exception class is not exported).
+struct NotANumber {
+    template <class... Parts>
+    explicit NotANumber(Parts&&...) {}
+};
+
+// Where Assimp's ASCII parse of one value of `type` at `at` ends (PLY::PropertyInstance::
+// ParseValue), and the value as a list length (ConvertTo<unsigned int>); false when Assimp
+// throws on it (a float that is not a number, or an exponent without digits).
+bool asciiValue(const char*& at, PlyType type, uint32_t& length) {
+    switch (type) {
+    case PlyType::UInt:
+    case PlyType::UShort:
+    case PlyType::UChar: length = Assimp::strtoul10(at, &at); return true;
+    case PlyType::Int:
+    case PlyType::Short:
+    case PlyType::Char: {
+        // strtol10, in unsigned arithmetic (Assimp negates an int, undefined for INT_MIN).
+        const bool negative = *at == '-';
+        if (negative || *at == '+') ++at;
+        const uint32_t magnitude = Assimp::strtoul10(at, &at);
+        length = negative ? 0u - magnitude : magnitude;
+        return true;
+    }
+    case PlyType::Float:
+    case PlyType::Double:
+        try {
+            double value = 0.0;
+            at = Assimp::fast_atoreal_move<double, NotANumber>(at, value);
+            length = 0;
+            return true;
+        } catch (const NotANumber&) {
+            return false;
+        }
+    case PlyType::Invalid: break;
+    }
+    return true;
+}
+
+// ASCII data as PLY::DOM::ParseElementInstanceLists reads it, one line per instance: an
+// element Assimp does not know, or one without properties, is skipped a line at a time; the
+// others are parsed value by value, and a parse that runs past a line end goes on in what an
+// earlier line left in the buffer. Refused: a value Assimp would throw on after building the
+// mesh (which leaks: finding 5's kind), a list longer than the rest of its line (Assimp
+// reserves it first: finding 11's kind), and an instance with no line left (Assimp parses
+// the last one again).
+bool checkAsciiBody(const std::string& path, std::ifstream& in, const PlyHeader& header, AssimpStream& stream,
+                    LineBuffer& b, Diagnostics& diagnostics) {
+    stream.nextLine(b);
+    bool line = stream.delivered();
+    for (const PlyElement& element : header.elements) {
+        if (element.kind == ElementKind::TextureFile) continue;
+        const bool skipped = element.kind == ElementKind::Other || element.properties.empty();
+        const std::string which = "PLY element " + elementName(element) + " ";
+        for (uint64_t i = 0; i < element.count; ++i) {
+            const std::string instance = "instance " + std::to_string(i + 1) + " of " + std::to_string(element.count);
+            if (!line) {
+                diagnostics.error(locateOffset(path, in, element.offset),
+                                  which + "declares " + std::to_string(element.count) + " instances, a line each, but the "
+                                          "file ends before " + instance);
+                return false;
+            }
+            if (skipped) {
+                skipComments(b);
+                skipLine(b);
+            } else {
+                const char* const start = b.data();
+                const char* at = start;
+                for (const PlyProperty& property : element.properties) {
+                    if (!Assimp::SkipSpaces(&at)) continue;  // Assimp keeps a default value
+                    const char* value = at;
+                    uint32_t length = 0;
+                    bool read = asciiValue(at, property.list ? property.count_type : property.type, length);
+                    if (read && property.list) {
+                        const char* end = at;
+                        while (!Assimp::IsLineEnd(*end)) ++end;
+                        if (length > static_cast<uint64_t>(end - at)) {
+                            diagnostics.error(locateOffset(path, in, stream.offsetOf(b, value, start)),
+                                              which + instance + " has a list " + printable(property.name) + " of " +
+                                                  std::to_string(length) + " entries on a line with room for " +
+                                                  std::to_string(end - at));
+                            return false;
+                        }
+                        for (uint32_t entry = 0; read && entry < length && Assimp::SkipSpaces(&at); ++entry) {
+                            value = at;
+                            uint32_t ignored = 0;
+                            read = asciiValue(at, property.type, ignored);
+                        }
+                    }
+                    if (!read) {
+                        const char* end = value;
+                        while (!Assimp::IsSpaceOrNewLine(*end)) ++end;
+                        diagnostics.error(locateOffset(path, in, stream.offsetOf(b, value, start)),
+                                          which + instance + ": Assimp 5.2.5 cannot read " +
+                                              printable(std::string_view(value, static_cast<size_t>(end - value))) +
+                                              " as a number for " + printable(property.name) +
+                                              " (it would fail and leak the mesh)");
+                        return false;
+                    }
+                    Assimp::SkipSpacesAndLineEnd(&at);
+                }
+            }
+            stream.nextLine(b);
+            line = stream.delivered();
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
 bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics) {
@@ -740,7 +856,8 @@ bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagn
     return checkOneOfEach(path, in, header, diagnostics) && checkNoStrips(path, in, header, diagnostics) &&
            checkPropertyPairs(path, in, header, diagnostics) && checkListLengths(path, in, header, diagnostics) &&
            checkCounts(path, in, header, file_size, diagnostics) &&
-           (!header.binary || checkBinaryBody(path, in, header, file_size, diagnostics));
+           (header.binary ? checkBinaryBody(path, in, header, file_size, diagnostics)
+                          : checkAsciiBody(path, in, header, stream, buffer, diagnostics));
 }
 
 }  // namespace radbake

@@ -13,8 +13,10 @@ namespace radbake {
 // harm. Otherwise reports a located error and returns false: a header without an end_header
 // line Assimp finds, a second vertex element or a second face (or tristrips) element, triangle
 // strips (Assimp reads them wrong), a face texcoord list without a vertex_indices list or a
-// material opacity without a specular_power (Assimp reads one through the other), or an
-// element whose count (as Assimp reads it) cannot fit in the bytes after the header.
+// material opacity without a specular_power (Assimp reads one through the other), a list
+// length that is a float, an element whose count (as Assimp reads it) cannot fit in the bytes
+// after the header, binary data past the file's end, or ASCII data Assimp throws on, a list
+// longer than its line or an instance without a line.
 bool checkPlyInput(const std::string& path, size_t max_bytes, Diagnostics& diagnostics);
 
 }  // namespace radbake
