@@ -146,8 +146,8 @@ TEST_CASE("PLY check: ordinary ASCII and binary (both byte orders) files still r
 TEST_CASE("fuzz: a PLY element count that cannot fit in the file is a located error before Assimp reads it") {
     // fuzz_assimp_ply, 30 minutes (docs/fuzzing.md, finding 11): a garbled element line whose
     // name is a long number. Assimp 5.2.5 reads an unknown element's count from the start of
-    // its name, modulo 2^32 (1107328640), and reserves 24 bytes per instance: 26 GB, an
-    // out-of-memory report under ASan, std::bad_alloc without.
+    // its name, modulo 2^32 (1107328640), and reserves that many instances: an out-of-memory
+    // report under ASan, std::bad_alloc without.
     const std::string garbled = std::string("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
                                             "property float y\nproperty float z\n") +
                                 "element 66666666666666000000 uchar int vertex_indices\nproperty uchar a\nend_header\n" +
@@ -213,8 +213,8 @@ TEST_CASE("fuzz: PLY magic after blank lines is still checked (Assimp skips them
 TEST_CASE("fuzz: a PLY file with a second face or vertex element is a located error before Assimp reads it") {
     // fuzz_assimp_ply (docs/fuzzing.md, finding 5), minimized: two face elements. Assimp
     // 5.2.5 reads every face element into the face array of the first, at each instance's
-    // index within its own element: the second face's index array replaces the first's, whose
-    // 40 bytes leak (the body is short, so the lists' lengths come from Assimp's '\n' padding).
+    // index within its own element: the second face's index array replaces the first's, which
+    // leaks (the body is short, so the lists' lengths come from Assimp's '\n' padding).
     const std::string minimized("ply\nformat binary_ rpe\nelement vertex 4\nproperty float x\np nz\nelement face 1\n"
                                 "property list uchar int vertex_indices\nz\nelement face 1\n"
                                 "property list uchar int vertex_indices\nend_header\n\0\x03",
@@ -258,8 +258,8 @@ TEST_CASE("fuzz: a PLY file with a second face or vertex element is a located er
 
 TEST_CASE("PLY triangle strips are a located error: Assimp 5.2.5 keeps one triangle of each") {
     // PLYImporter::LoadFace writes every triangle of a strip to the same face, leaking the
-    // one before (found reading its source; LeakSanitizer: 12 bytes per lost triangle). The
-    // strip 0 1 2 3 4 (three triangles) came out as one.
+    // one before (found reading its source). The strip 0 1 2 3 4 (three triangles) comes out
+    // as one.
     std::string strips = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
                          "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
                          "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 2 0\n5 0 1 2 3 4\n";
@@ -301,7 +301,7 @@ TEST_CASE("PLY properties Assimp 5.2.5 reads through missing others are a locate
 TEST_CASE("fuzz: binary PLY data that runs past the end of the file is a located error before Assimp reads it") {
     // Past the file's end Assimp 5.2.5 reads the '\n' bytes its buffer starts with, as values
     // and as list lengths, and once past its buffer throws "File corrupted", leaking the mesh
-    // (found with fuzz_assimp_ply's build: 1.3 KB and the vertex array per file).
+    // (found with fuzz_assimp_ply's build).
     std::string truncated = squaresPly(Format::LittleEndian);
     truncated.resize(truncated.size() - 4);  // the quad's last index
     Diagnostic error = refusal(truncated);
@@ -317,7 +317,7 @@ TEST_CASE("fuzz: binary PLY data that runs past the end of the file is a located
     CHECK(contains(error.message, "PLY element 'edge' runs past the end of the file: its instance 2 of 2 ends after "
                                   "the file's last byte"));
 
-    // A list length Assimp reads as 4294967295 (an int -1): it would reserve 32 GB.
+    // A list length Assimp reads as 4294967295 (an int -1), reserved before the entries are read.
     const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
     Binary body;
@@ -327,7 +327,7 @@ TEST_CASE("fuzz: binary PLY data that runs past the end of the file is a located
     CHECK(error.location.line == 7);
     CHECK(contains(error.message, "list 'vertex_indices' of 4294967295 entries"));
 
-    // A list length that is a float: Assimp converts it unchecked (here to 1410065408 entries).
+    // A list length that is a float: Assimp converts it to unsigned int unchecked.
     std::string float_length = header;
     float_length.replace(float_length.find("list int int"), 12, "list float int");
     Binary float_body;
@@ -351,9 +351,9 @@ TEST_CASE("fuzz: binary PLY data that runs past the end of the file is a located
 
 TEST_CASE("fuzz: ASCII PLY values Assimp throws on, lists longer than their line, missing lines: located errors") {
     // Assimp 5.2.5's ASCII number parser throws on a value that is not a number, after the
-    // mesh is built, which then leaks (found with fuzz_assimp_ply's build: 1.3 KB per file);
-    // a list's length is reserved before its entries are read (a char -1 is 4294967295
-    // entries, 32 GB); an instance past the last line parses that line again.
+    // mesh is built, which then leaks (found with fuzz_assimp_ply's build); a list's length
+    // is reserved before its entries are read (a char -1 is 4294967295 entries); an instance
+    // past the last line parses that line again.
     std::string garbage = squaresPly(Format::Ascii);
     const size_t second_vertex = garbage.find("\n1.000000 0.000000 0.000000") + 1;
     garbage.replace(second_vertex + 18, 8, "zz");

@@ -1,5 +1,6 @@
 // Every scene format Assimp reads, mapped into our Scene. The only file in the project that
-// includes Assimp: nothing of Assimp (types, exceptions, its global logger) leaks out of here.
+// includes Assimp, with ply_guard.cpp (which reads PLY with Assimp's own token functions):
+// nothing of Assimp (types, exceptions, its global logger) leaks out of here.
 #include "io/assimp/assimp_reader.h"
 
 #include <assimp/BaseImporter.h>

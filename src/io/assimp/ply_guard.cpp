@@ -579,7 +579,7 @@ uint64_t minimumInstanceBytes(const PlyElement& element, bool binary) {
 }
 
 // Finding 11: an element count larger than the bytes after the header could hold makes
-// Assimp allocate for it (26 GB from a 276-byte file) or loop as many times.
+// Assimp allocate for it or loop as many times.
 bool checkCounts(const std::string& path, std::ifstream& in, const PlyHeader& header, uint64_t file_size,
                  Diagnostics& diagnostics) {
     const uint64_t bytes = file_size - std::min(file_size, header.body);
@@ -665,9 +665,9 @@ uint32_t binaryListLength(const unsigned char* raw, PlyType type, bool big_endia
 }
 
 // Binary data must lie within the file: past its end Assimp 5.2.5 reads the '\n' bytes its
-// buffer starts with (or an earlier block's), as values and as list lengths (up to 168
-// million entries of 8 bytes from an int length), and then throws "File corrupted", leaking the
-// mesh it was building. Each list's length is read as Assimp reads it; its entries must fit.
+// buffer starts with (or an earlier block's), as values and as list lengths, and then throws
+// "File corrupted", leaking the mesh it was building. Each list's length is read as Assimp
+// reads it; its entries must fit.
 bool checkBinaryBody(const std::string& path, std::ifstream& in, const PlyHeader& header, uint64_t file_size,
                      Diagnostics& diagnostics) {
     ByteWindow window(in, file_size);
