@@ -1,7 +1,7 @@
 // lightmap_at_vertices: what an engine shows at each vertex of a lightmapped bake, as probe
 // values, for the per-vertex accuracy yardstick (issue 13's lightmap target).
 //
-//   lightmap_at_vertices BAKE_DIR PROBES_FILE OUT.csv
+//   lightmap_at_vertices BAKE_DIR PROBES_FILE OUT.csv [--skip-missing]
 //
 // BAKE_DIR is a `radbake bake SCENE -o BAKE_DIR` folder with lightmaps (its one .glb, and the
 // EXR atlases its primitives name in extras.radbake_lightmap); PROBES_FILE a probe file, as
@@ -16,7 +16,9 @@
 // On stderr: how far the lookups are from the matched vertices' own baked value
 // (_RADBAKE_LIGHT), the worst of them, and how far apart the lookups of coincident vertices
 // (split at chart seams) are. Exit 1 on bad input (no glb, a probe without a vertex, a vertex
-// whose mesh has no lightmap chart, an unreadable atlas), 2 on a bad command line.
+// whose mesh has no lightmap chart, an unreadable atlas), 2 on a bad command line. With
+// --skip-missing a probe without an output vertex of its normal (a scene whose smooth normals
+// are split at hard edges) is counted on stderr and written as 0 instead, for diagnosis only.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -68,7 +70,7 @@ std::string describe(const DVec3& v) {
     return text;
 }
 
-int run(const fs::path& bake_dir, const std::string& probes_path, const fs::path& out_path) {
+int run(const fs::path& bake_dir, const std::string& probes_path, const fs::path& out_path, bool skip_missing) {
     std::vector<fs::path> glbs;
     if (!fs::is_directory(bake_dir)) throw std::runtime_error(bake_dir.string() + ": not a bake folder");
     for (const auto& entry : fs::directory_iterator(bake_dir))
@@ -134,6 +136,7 @@ int run(const fs::path& bake_dir, const std::string& probes_path, const fs::path
     size_t tied = 0;
     double worst_tie = 0.0;
     size_t worst_tie_probe = 0;
+    size_t missing = 0, first_missing = 0;
     for (size_t p = 0; p < probes->size(); ++p) {
         const Probe& probe = (*probes)[p];
         const auto k = key(probe.position);
@@ -149,10 +152,15 @@ int run(const fs::path& bake_dir, const std::string& probes_path, const fs::path
                         found.push_back({glm::length(position(v) - probe.position), v});
                     }
                 }
-        if (found.empty())
-            throw std::runtime_error(probes_path + ":" + std::to_string(probe.location.line) +
-                                     ": no output vertex with normal " + describe(probe.normal) + " near " +
-                                     describe(probe.position));
+        if (found.empty()) {
+            if (!skip_missing)
+                throw std::runtime_error(probes_path + ":" + std::to_string(probe.location.line) +
+                                         ": no output vertex with normal " + describe(probe.normal) + " near " +
+                                         describe(probe.position));
+            if (missing++ == 0) first_missing = p;
+            irradiance.push_back(DVec3(0.0));
+            continue;
+        }
         // Nearest, then file order: vertices split at a chart seam share a position exactly.
         std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         const VertexRef v = found[0].second;
@@ -172,6 +180,14 @@ int run(const fs::path& bake_dir, const std::string& probes_path, const fs::path
         rows.push_back({p, v, value, vertex_bake});
         irradiance.push_back(kPi * value);
     }
+    if (rows.empty())
+        throw std::runtime_error(probes_path + ": no probe has an output vertex with its normal near it");
+    if (missing)
+        std::fprintf(stderr,
+                     "lightmap_at_vertices: %zu probes have no output vertex with their normal near them (0 written "
+                     "for them; the first at %s:%d, normal %s)\n",
+                     missing, probes_path.c_str(), (*probes)[first_missing].location.line,
+                     describe((*probes)[first_missing].normal).c_str());
     if (!writeProbesCsv(out_path, *probes, irradiance, diagnostics)) return 1;
 
     // Against the vertex bake at the same vertices, over those above 1 % of the median
@@ -215,12 +231,13 @@ int run(const fs::path& bake_dir, const std::string& probes_path, const fs::path
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 4) {
-        std::fprintf(stderr, "usage: lightmap_at_vertices BAKE_DIR PROBES_FILE OUT.csv\n");
+    const bool skip_missing = argc == 5 && std::string(argv[4]) == "--skip-missing";
+    if (argc != 4 && !skip_missing) {
+        std::fprintf(stderr, "usage: lightmap_at_vertices BAKE_DIR PROBES_FILE OUT.csv [--skip-missing]\n");
         return 2;
     }
     try {
-        return run(argv[1], argv[2], argv[3]);
+        return run(argv[1], argv[2], argv[3], skip_missing);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "lightmap_at_vertices: error: %s\n", e.what());
         return 1;
