@@ -247,6 +247,9 @@ struct TextureTable {
     std::vector<int> lightmap_index;   // atlas -> texture index; -1 until used
     GltfJson images = GltfJson::array(), textures = GltfJson::array(), samplers = GltfJson::array();
     int repeat_sampler = -1, lightmap_sampler = -1;
+    // The import's read policy, when the scene came from one: a texture read again here must
+    // still be a file it allows (a path swapped for a link out of the tree since is refused).
+    std::optional<ReadPolicy> policy;
 };
 
 int samplerIndex(TextureTable& table, bool lightmap) {
@@ -275,10 +278,11 @@ int addImageTexture(TextureTable& table, JsonLists& lists, std::string& bin, con
 }
 
 // Empty when it is not a regular file (a FIFO would block the write), is larger than the
-// import's cap or cannot be read.
-std::string fileBytes(const std::string& path) {
+// import's cap, cannot be read, or is not a file the policy allows.
+std::string fileBytes(const std::string& path, const ReadPolicy* policy) {
     std::string why;
-    return readRegularFile(path, why, kDefaultMaxInputBytes).value_or(std::string());
+    return readRegularFile(path, why, kDefaultMaxInputBytes, policy ? policy->openedCheck() : OpenedFileCheck{})
+        .value_or(std::string());
 }
 
 // The texture index of `path`, adding its image on first use; -1 when it cannot be read (the
@@ -287,7 +291,8 @@ int textureIndex(TextureTable& table, JsonLists& lists, std::string& bin, const 
     const std::string& path = texture.path;
     if (path.empty()) return -1;
     if (const auto it = table.index.find(path); it != table.index.end()) return it->second;
-    std::string bytes = texture.embedded ? *texture.embedded : fileBytes(path);
+    const ReadPolicy* policy = table.policy ? &*table.policy : nullptr;
+    std::string bytes = texture.embedded ? *texture.embedded : fileBytes(path, policy);
     std::string mime;
     if (bytes.size() >= 8 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0) {
         mime = "image/png";
@@ -297,7 +302,8 @@ int textureIndex(TextureTable& table, JsonLists& lists, std::string& bin, const 
         int width = 0, height = 0;
         std::vector<uint8_t> rgba;
         std::string error;
-        bytes = readImageRgba8(texture, width, height, rgba, error) ? encodeRgba8Png(width, height, rgba) : std::string();
+        bytes = readImageRgba8(texture, width, height, rgba, error, policy) ? encodeRgba8Png(width, height, rgba)
+                                                                             : std::string();
         mime = "image/png";
     }
     if (bytes.empty()) return table.index[path] = -1;
@@ -325,7 +331,8 @@ GltfJson materialJson(const Material& material, bool textured, TextureTable& tex
     if (const int base = textureIndex(textures, lists, bin, material.base_color_texture); base >= 0) {
         json["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", base}};
         // glTF multiplies texture and factor; a VRML97 RGB texture replaces the colour.
-        if (material.base_color_texture.rgb_replaces && imageChannels(material.base_color_texture) >= 3)
+        if (material.base_color_texture.rgb_replaces &&
+            imageChannels(material.base_color_texture, textures.policy ? &*textures.policy : nullptr) >= 3)
             json["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
     }
     if (const int emissive = textureIndex(textures, lists, bin, material.emissive_texture); emissive >= 0)
@@ -461,6 +468,7 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
     }
     bool uses_strength = false, uses_lightmap = false;
     TextureTable textures;
+    if (scene.read_roots) textures.policy = readPolicyFor(scene.source_path, *scene.read_roots);
     textures.lightmap_index.assign(options.lightmaps ? options.lightmaps->atlas_files.size() : 0, -1);
     GltfJson materials = GltfJson::array();
     std::map<std::pair<uint32_t, int>, int> material_index;

@@ -78,6 +78,7 @@ std::optional<Scene> importPhases(const std::string& path, const ImportOptions& 
 
     Scene scene;
     scene.source_path = path;
+    scene.read_roots = options.read_roots;
     // The name outputs are called by: the file name without its format suffixes. Only the
     // last extension is a format (furnace_rho_0.99.wrl is "furnace_rho_0.99", not "furnace_rho_0").
     std::string stem = std::filesystem::path(path).filename().string();

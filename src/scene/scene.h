@@ -4,6 +4,7 @@
 // quantities as DESIGN.md section 2 defines them.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -136,6 +137,10 @@ struct Scene {
     // Files the scene named and the read policy refused (core/read_policy.h), each once, as
     // named: outside the read roots, or not a regular file. None of them was read.
     std::vector<std::string> refused_inputs;
+    // The import's read roots beyond the scene's folder (--read-root), set by the import: a
+    // later stage that reads a texture again (the glb writer) checks the file it opens against
+    // the same policy. Unset for a scene made without an import: no policy then.
+    std::optional<std::vector<std::string>> read_roots;
     CreaseSplitCounts crease_split;
     // Back twins' polygons covered by a surface in contact (scene/two_sided.h).
     size_t covered_back_polygons = 0;

@@ -157,15 +157,16 @@ std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srg
     return image;
 }
 
-int imageChannels(const TextureRef& texture) {
+int imageChannels(const TextureRef& texture, const ReadPolicy* policy) {
     std::string why;
-    const ImageSource source(texture, why);
+    const ImageSource source(texture, why, policy ? policy->openedCheck() : OpenedFileCheck{});
     int width = 0, height = 0, channels = 0;
     return source.opened() && source.info(&width, &height, &channels) ? channels : 0;
 }
 
-bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error) {
-    const ImageSource source(texture, error);
+bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error,
+                    const ReadPolicy* policy) {
+    const ImageSource source(texture, error, policy ? policy->openedCheck() : OpenedFileCheck{});
     if (!source.opened()) return false;
     int channels = 0;
     if (!source.info(&width, &height, &channels)) {

@@ -45,12 +45,14 @@ std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srg
                                              const ReadPolicy* policy = nullptr);
 
 // The image as 8-bit RGBA bytes as stored (no colour conversion; HDR is mapped by stb_image's
-// default 1/2.2 gamma), for re-encoding to PNG. False with `error` set when it cannot be read.
-bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error);
+// default 1/2.2 gamma), for re-encoding to PNG. False with `error` set when it cannot be read
+// (or, with a `policy`, the file opened is not one it allows).
+bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error,
+                    const ReadPolicy* policy = nullptr);
 
 // The channel count the file holds (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), 0 when it
 // cannot be read: cheap, it reads the header only.
-int imageChannels(const TextureRef& texture);
+int imageChannels(const TextureRef& texture, const ReadPolicy* policy = nullptr);
 
 // sRGB transfer function (IEC 61966-2-1), encoded in [0, 1] -> linear.
 float srgbToLinear(float encoded);

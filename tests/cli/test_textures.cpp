@@ -483,3 +483,23 @@ TEST_CASE("textures: VRML97 default texture coordinates: a face set's bounding b
     CHECK(scene->meshes[2].polygon_reflectance[0].x == doctest::Approx(grey).epsilon(1e-6));
     CHECK(scene->meshes[2].polygon_reflectance[1] == Vec3(0.0f));
 }
+
+TEST_CASE("textures: a texture swapped for a link out of the tree after the import is not embedded in the glb") {
+    const TempDir tmp;
+    fs::create_directories(tmp.path / "scene");
+    fs::create_directories(tmp.path / "secret");
+    writePng(tmp.path / "scene" / "half.png", 2, 1, 3, {0, 0, 0, 255, 255, 255});
+    writePng(tmp.path / "secret" / "key.png", 1, 1, 3, {12, 34, 56});
+    writeFloorScene(tmp.path / "scene", "half.png");
+    Diagnostics diagnostics;
+    const Bake result = bakeInMemory(tmp.path / "scene" / "floor.obj", diagnostics);
+    REQUIRE(result.ok());
+    // Between the import, which checked the texture, and the writer, which reads it again.
+    fs::remove(tmp.path / "scene" / "half.png");
+    fs::create_symlink(tmp.path / "secret" / "key.png", tmp.path / "scene" / "half.png");
+    REQUIRE(writeBake(result, tmp.path / "out", diagnostics));
+    const Glb glb(readBytes(tmp.path / "out" / "floor.glb"));
+    CHECK(glb.bin.find(readBytes(tmp.path / "secret" / "key.png")) == std::string::npos);
+    for (const auto& material : glb.root["materials"])
+        CHECK_FALSE(material["pbrMetallicRoughness"].contains("baseColorTexture"));
+}
