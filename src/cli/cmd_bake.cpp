@@ -125,7 +125,10 @@ void routeDiagnostics(Diagnostics& diagnostics, Progress& progress) {
 }
 
 int runBake(const BakeArgs& args) {
-    Progress progress(!args.quiet && isatty(STDERR_FILENO));
+    // A log (stderr not a terminal) gets plain lines; --quiet none.
+    Progress progress(args.quiet                ? ProgressStyle::Hidden
+                      : isatty(STDERR_FILENO) ? ProgressStyle::Terminal
+                                              : ProgressStyle::Lines);
     Diagnostics diagnostics;
     routeDiagnostics(diagnostics, progress);
     // An interrupted content build leaves no temporary directory behind.

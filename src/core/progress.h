@@ -16,6 +16,10 @@
 
 namespace radbake {
 
+// How a run's progress reaches stderr: not at all; as one live line redrawn on a terminal; or
+// as plain lines a log keeps (each phase's end, and every 10 % of a phase past its first seconds).
+enum class ProgressStyle { Hidden, Terminal, Lines };
+
 struct ProgressEvent {
     std::string_view phase;
     double fraction = 0.0;       // 0..1 within the phase (0 while unknown)
@@ -32,6 +36,7 @@ public:
 
     // show: draw on stderr (the caller passes: stderr is a terminal and not --quiet).
     explicit Progress(bool show = false);
+    explicit Progress(ProgressStyle style);
     ~Progress();
     Progress(const Progress&) = delete;
     Progress& operator=(const Progress&) = delete;
@@ -44,6 +49,7 @@ public:
     // update redraws). Use for diagnostics while progress is shown.
     void printLine(std::string_view line);
 
+    // Whether the live terminal line is drawn.
     bool shown() const { return show_; }
     // The phase under way ("" between phases); read it from the thread that begins phases.
     const std::string& currentPhase() const { return current_; }
@@ -63,8 +69,10 @@ public:
 
 private:
     void draw(bool final_line);
+    void logLine(bool final_line);
     void notify(bool phase_done, double phase_seconds);
     bool show_;
+    bool lines_ = false;  // ProgressStyle::Lines
     Sink sink_;
     std::atomic<bool> cancel_{false};
     std::string current_;
@@ -72,6 +80,7 @@ private:
     std::chrono::steady_clock::time_point phase_start_;
     std::atomic<double> fraction_{0.0};
     std::atomic<int64_t> last_draw_ns_{0};
+    int logged_tenths_ = 0;  // the phase's last logged 10 % step (Lines), under draw_mutex_
     std::mutex draw_mutex_;  // one writer of the terminal line at a time
     bool line_open_ = false; // a live line is on screen without its newline
     std::vector<std::pair<std::string, double>> phases_;

@@ -289,3 +289,18 @@ TEST_CASE("a scene with no emitter and no light bakes black, with a warning that
     CHECK(lit.exit_code == 0);
     CHECK(lit.output.find("no emissive surface") == std::string::npos);
 }
+
+TEST_CASE("a log gets progress as plain lines, one at each phase's end; --quiet none") {
+    const TempDir tmp;
+    const std::string scene = quote(fs::path(RADBAKE_SOURCE_DIR) / "scenes" / "cornell_box.wrl");
+    // runRadbake's stderr is a pipe, as a content build's log is.
+    const RunResult logged = runRadbake("bake " + scene + " -o " + quote(tmp.path / "a"));
+    INFO(logged.output);
+    REQUIRE(logged.exit_code == 0);
+    for (const char* phase : {"import", "elements", "links", "solve", "vertices", "lightmaps"})
+        CHECK(logged.output.find(std::string("radbake: ") + phase + " done in ") != std::string::npos);
+    CHECK(logged.output.find('\r') == std::string::npos);  // no terminal redrawing in a log
+    const RunResult quiet = runRadbake("bake " + scene + " -o " + quote(tmp.path / "b") + " --quiet");
+    REQUIRE(quiet.exit_code == 0);
+    CHECK(quiet.output.find(" done in ") == std::string::npos);
+}
