@@ -10,35 +10,13 @@
 #include "core/memory.h"
 #include "io/assimp/gltf_guard.h"
 #include "io/import.h"
+#include "import_test_support.h"
 
 namespace fs = std::filesystem;
 using namespace radbake;
+using importtest::TempDir;
 
 namespace {
-
-// A fresh directory per test, removed afterwards.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("radbake_assimp_" + std::to_string(::getpid()) + "_" +
-                                            std::to_string(counter()++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    static int& counter() {
-        static int value = 0;
-        return value;
-    }
-    std::string write(const std::string& name, const std::string& text) const {
-        const fs::path file = path / name;
-        std::ofstream(file, std::ios::binary) << text;
-        return file.string();
-    }
-};
 
 double totalArea(const Scene& scene) { return summarize(scene).area; }
 
@@ -590,13 +568,7 @@ std::string gltfTriangle(const std::string& before_asset = "") {
 
 // The error importScene reports for `text` written as `name`, which must fail with one error.
 Diagnostic refusal(const TempDir& dir, const std::string& name, const std::string& text) {
-    const std::string path = dir.write(name, text);
-    Diagnostics diagnostics;
-    CHECK_FALSE(importScene(path, {}, diagnostics));
-    REQUIRE(diagnostics.errorCount() == 1);
-    const Diagnostic error = diagnostics.all().back();
-    CHECK(error.location.file == path);
-    return error;
+    return importtest::refusal(dir.write(name, text));
 }
 
 std::string little32(uint32_t value) {
@@ -719,11 +691,7 @@ namespace {
 
 // The import fails with a located error from the OBJ check (so Assimp never read the file).
 void checkObjRefused(const std::string& path, int line, const std::string& part) {
-    Diagnostics diagnostics;
-    CHECK_FALSE(importScene(path, {}, diagnostics));
-    REQUIRE(diagnostics.errorCount() == 1);
-    const Diagnostic& error = diagnostics.all().back();
-    CHECK(error.location.file == path);
+    const Diagnostic error = importtest::refusal(path);
     CHECK(error.location.line == line);
     CHECK_MESSAGE(error.message.find(part) != std::string::npos, error.message);
 }

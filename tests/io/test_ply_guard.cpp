@@ -13,42 +13,23 @@
 #include <unistd.h>
 
 #include "io/import.h"
+#include "import_test_support.h"
 
 namespace fs = std::filesystem;
 using namespace radbake;
+using importtest::TempDir;
 
 namespace {
 
-// A fresh directory per test, removed afterwards.
-struct PlyDir {
-    fs::path path = fs::temp_directory_path() / ("radbake_ply_guard_" + std::to_string(::getpid()));
-    PlyDir() { fs::create_directories(path); }
-    ~PlyDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string write(const std::string& name, const std::string& bytes) const {
-        const fs::path file = path / name;
-        std::ofstream(file, std::ios::binary) << bytes;
-        return file.string();
-    }
-};
-
 // The one error importScene reports for `bytes` written as input.ply.
 Diagnostic refusal(const std::string& bytes) {
-    PlyDir dir;
-    const std::string path = dir.write("input.ply", bytes);
-    Diagnostics diagnostics;
-    CHECK_FALSE(importScene(path, {}, diagnostics));
-    REQUIRE(diagnostics.errorCount() == 1);
-    const Diagnostic error = diagnostics.all().back();
-    CHECK(error.location.file == path);
-    return error;
+    TempDir dir;
+    return importtest::refusal(dir.write("input.ply", bytes));
 }
 
 // The scene read from `bytes` written as input.ply, which must read without errors.
 Scene accepted(const std::string& bytes) {
-    PlyDir dir;
+    TempDir dir;
     Diagnostics diagnostics;
     std::optional<Scene> scene = importScene(dir.write("input.ply", bytes), {}, diagnostics);
     for (const Diagnostic& d : diagnostics.all()) CAPTURE(d.message);
