@@ -35,6 +35,9 @@ struct ReadPolicy {
 
 // The policy of the scene file at `scene_path`: its own folder, then each of `extra_roots`
 // (a root that does not exist is kept by its absolute path, and holds nothing).
+// policy->openedCheck(), or no check without a policy.
+inline OpenedFileCheck openedCheckOf(const ReadPolicy* policy) { return policy ? policy->openedCheck() : OpenedFileCheck{}; }
+
 ReadPolicy readPolicyFor(const std::string& scene_path, const std::vector<std::string>& extra_roots,
                          size_t max_bytes = kDefaultMaxInputBytes);
 

@@ -281,8 +281,7 @@ int addImageTexture(TextureTable& table, JsonLists& lists, std::string& bin, con
 // import's cap, cannot be read, or is not a file the policy allows.
 std::string fileBytes(const std::string& path, const ReadPolicy* policy) {
     std::string why;
-    return readRegularFile(path, why, kDefaultMaxInputBytes, policy ? policy->openedCheck() : OpenedFileCheck{})
-        .value_or(std::string());
+    return readRegularFile(path, why, kDefaultMaxInputBytes, openedCheckOf(policy)).value_or(std::string());
 }
 
 // The texture index of `path`, adding its image on first use; -1 when it cannot be read (the

@@ -256,13 +256,18 @@ std::string syncPath(const fs::path& path) {
     return ok ? std::string() : path.string() + ": " + std::strerror(saved);
 }
 
+// Adds to `dirs` each directory of `root` that holds `name` ("a/b/c" adds root/a/b, root/a), once.
+void addParentDirectories(const fs::path& root, const std::string& name, std::vector<fs::path>& dirs) {
+    for (fs::path dir = fs::path(name).parent_path(); !dir.empty(); dir = dir.parent_path())
+        if (std::find(dirs.begin(), dirs.end(), root / dir) == dirs.end()) dirs.push_back(root / dir);
+}
+
 // Every staged file and the directories holding them, flushed before any rename publishes them.
 std::string syncStaged(const fs::path& staging_dir, const std::vector<std::string>& staged) {
     std::vector<fs::path> dirs{staging_dir};
     for (const std::string& name : staged) {
         if (std::string why = syncPath(staging_dir / name); !why.empty()) return why;
-        for (fs::path dir = fs::path(name).parent_path(); !dir.empty(); dir = dir.parent_path())
-            if (std::find(dirs.begin(), dirs.end(), staging_dir / dir) == dirs.end()) dirs.push_back(staging_dir / dir);
+        addParentDirectories(staging_dir, name, dirs);
     }
     for (const fs::path& dir : dirs)
         if (std::string why = syncPath(dir); !why.empty()) return why;
@@ -274,8 +279,7 @@ std::string syncStaged(const fs::path& staging_dir, const std::vector<std::strin
 void syncRenamedDirectories(const fs::path& out_dir, const fs::path& staging_dir, const Journal& journal) {
     std::vector<fs::path> dirs{out_dir, staging_dir};
     for (const Journal::Step& step : journal.steps)
-        for (fs::path dir = fs::path(step.name).parent_path(); !dir.empty(); dir = dir.parent_path())
-            if (std::find(dirs.begin(), dirs.end(), out_dir / dir) == dirs.end()) dirs.push_back(out_dir / dir);
+        addParentDirectories(out_dir, step.name, dirs);
     for (const fs::path& dir : dirs) syncPath(dir);
 }
 

@@ -21,8 +21,8 @@ namespace {
 // when it is a regular file (stb_image would wait forever on a FIFO, read /dev/zero forever).
 class ImageSource {
 public:
-    ImageSource(const TextureRef& texture, std::string& why, const OpenedFileCheck& check = {}) : texture_(texture) {
-        if (!texture.embedded) file_ = openRegularFile(texture.path, why, kDefaultMaxInputBytes, check);
+    ImageSource(const TextureRef& texture, std::string& why, const ReadPolicy* policy) : texture_(texture) {
+        if (!texture.embedded) file_ = openRegularFile(texture.path, why, kDefaultMaxInputBytes, openedCheckOf(policy));
     }
     bool opened() const { return texture_.embedded || file_; }
 
@@ -105,7 +105,7 @@ Vec4 TextureImage::texel(int64_t x, int64_t y) const {
 
 std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srgb, std::string& error,
                                              double max_memory_mb, bool* too_large, const ReadPolicy* policy) {
-    const ImageSource source(texture, error, policy ? policy->openedCheck() : OpenedFileCheck{});
+    const ImageSource source(texture, error, policy);
     if (!source.opened()) return std::nullopt;
     TextureImage image;
     int channels = 0;
@@ -159,14 +159,14 @@ std::optional<TextureImage> readTextureImage(const TextureRef& texture, bool srg
 
 int imageChannels(const TextureRef& texture, const ReadPolicy* policy) {
     std::string why;
-    const ImageSource source(texture, why, policy ? policy->openedCheck() : OpenedFileCheck{});
+    const ImageSource source(texture, why, policy);
     int width = 0, height = 0, channels = 0;
     return source.opened() && source.info(&width, &height, &channels) ? channels : 0;
 }
 
 bool readImageRgba8(const TextureRef& texture, int& width, int& height, std::vector<uint8_t>& rgba, std::string& error,
                     const ReadPolicy* policy) {
-    const ImageSource source(texture, error, policy ? policy->openedCheck() : OpenedFileCheck{});
+    const ImageSource source(texture, error, policy);
     if (!source.opened()) return false;
     int channels = 0;
     if (!source.info(&width, &height, &channels)) {

@@ -37,6 +37,25 @@ void checkLocatedFailure(const RunResult& run, const std::string& file) {
     CHECK_FALSE(contains(run.output, "std::bad_alloc"));
 }
 
+// `info` of dir/file under the address-space cap, with --max-memory 512 and without (the budget
+// is then 3/4 of ulimit -v), and `bake` with `bake_options`, each end in a located error at
+// `where` naming `what` (info) before the geometry is built; the bake writes nothing.
+void checkExpansionRefused(const TempDir& dir, const std::string& file, const std::string& where,
+                           const std::string& what, const std::string& bake_options) {
+    const std::string scene = quote(dir.path / file);
+    for (const std::string& budget : {std::string(" --max-memory 512"), std::string()}) {
+        CAPTURE(budget);
+        const RunResult info = runUnder(kCapKib, "info " + scene + budget);
+        checkLocatedFailure(info, where);
+        CHECK(contains(info.output, what));
+        CHECK(contains(info.output, "--max-memory"));
+    }
+    const fs::path out = dir.path / "out";
+    const RunResult baked = runUnder(4 * kCapKib, "bake " + scene + bake_options + " -q -o " + quote(out));
+    checkLocatedFailure(baked, where);
+    CHECK_FALSE(fs::exists(out));
+}
+
 uint32_t crc32(const std::string& bytes) {
     uint32_t crc = 0xffffffffu;
     for (unsigned char byte : bytes) {
@@ -149,18 +168,7 @@ TEST_CASE("memory: an Extrusion whose spine x cross-section expands past the bud
     // 2000 x 2000 points in about 40 KB: 8 million triangles.
     writeText(dir.path / "extrusion.wrl", stackedExtrusion(2000, 2000));
     REQUIRE(fs::file_size(dir.path / "extrusion.wrl") > 30000);
-    const std::string scene = quote(dir.path / "extrusion.wrl");
-    for (const std::string& budget : {std::string(" --max-memory 512"), std::string()}) {
-        CAPTURE(budget);  // without --max-memory, the budget is 3/4 of ulimit -v
-        const RunResult info = runUnder(kCapKib, "info " + scene + budget);
-        checkLocatedFailure(info, "extrusion.wrl:3:");
-        CHECK(contains(info.output, "Extrusion expands to"));
-        CHECK(contains(info.output, "--max-memory"));
-    }
-    const fs::path out = dir.path / "out";
-    const RunResult baked = runUnder(4 * kCapKib, "bake " + scene + " --max-memory 512 -q -o " + quote(out));
-    checkLocatedFailure(baked, "extrusion.wrl:3:");
-    CHECK_FALSE(fs::exists(out));
+    checkExpansionRefused(dir, "extrusion.wrl", "extrusion.wrl:3:", "Extrusion expands to", " --max-memory 512");
 }
 
 TEST_CASE("memory: the coplanar overlap check of faces stacked a thousand deep is bounded") {
@@ -179,18 +187,7 @@ TEST_CASE("memory: a 2 KB DEF/USE fan-out doubling at each level is a located er
     TempDir dir;
     writeText(dir.path / "fan.wrl", fanOut(30));  // 2^30 spheres
     REQUIRE(fs::file_size(dir.path / "fan.wrl") < 2500);
-    const std::string scene = quote(dir.path / "fan.wrl");
-    for (const std::string& budget : {std::string(" --max-memory 512"), std::string()}) {
-        CAPTURE(budget);
-        const RunResult info = runUnder(kCapKib, "info " + scene + budget);
-        checkLocatedFailure(info, "fan.wrl:");
-        CHECK(contains(info.output, "Group 'L"));
-        CHECK(contains(info.output, "--max-memory"));
-    }
-    const fs::path out = dir.path / "out";
-    const RunResult baked = runUnder(4 * kCapKib, "bake " + scene + " -q -o " + quote(out));
-    checkLocatedFailure(baked, "fan.wrl:");
-    CHECK_FALSE(fs::exists(out));
+    checkExpansionRefused(dir, "fan.wrl", "fan.wrl:", "Group 'L", "");
 }
 
 TEST_CASE("memory: an allocation that fails below the budget is a located error and exit 1, never an abort") {

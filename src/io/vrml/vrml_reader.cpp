@@ -187,8 +187,7 @@ std::optional<std::string> loadText(const std::string& path, const SourceLocatio
     // Only a regular file: an Inline naming a FIFO must not block the import.
     const size_t max_bytes = options.policy ? options.policy->max_bytes : kDefaultMaxInputBytes;
     std::string why;
-    std::optional<std::string> read =
-        readRegularFile(path, why, max_bytes, options.policy ? options.policy->openedCheck() : OpenedFileCheck{});
+    std::optional<std::string> read = readRegularFile(path, why, max_bytes, openedCheckOf(options.policy));
     if (!read) {
         diagnostics.error(from, "cannot read '" + path + "': " + why);
         return std::nullopt;
