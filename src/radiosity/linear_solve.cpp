@@ -24,7 +24,12 @@ struct Operator {
     std::vector<double> weight;       // per leaf: area / total leaf area
     std::vector<size_t> link_begin;   // per element + 1
     std::vector<DVec3> pushed;        // per element: irradiance gathered here and above
+    // Per element: the part of `pushed` through links whose visibility no shaft proved whole
+    // (rays sampled it, or it is partial), which a leaf below inherits from an ancestor whose
+    // view it may not share.
+    std::vector<DVec3> pushed_sampled;
     std::vector<double> correction;   // per leaf: exact / hierarchical row sum (see below)
+    std::vector<double> inherited_scale;  // per leaf: on its inherited sampled links (limitRowSums)
     ClusterTransfer clusters;         // cluster links (cluster.h)
     std::vector<DVec3> cluster_h;     // per root: irradiance through cluster links
     std::vector<double> cluster_share;  // per leaf: its share of its root's cluster irradiance
@@ -41,6 +46,7 @@ struct Operator {
         for (const Link& link : s.links) ++link_begin[link.receiver + 1];
         for (size_t i = 0; i < s.elements.size(); ++i) link_begin[i + 1] += link_begin[i];
         pushed.assign(s.elements.size(), DVec3(0.0));
+        pushed_sampled.assign(s.elements.size(), DVec3(0.0));
         computeCorrections();
         cluster_share = clusters.leafFactors(s, runner, leaves);
         limitRowSums();
@@ -111,12 +117,18 @@ struct Operator {
     // (the sides inside a thin closed binder), a separable kernel misread close to its
     // receiver. House.wrl had leaves at 2.7 and graz.wrl at 3.0, office.wrl at 9.8 from cluster
     // links; with rho near 1 such rows amplify light (no physical solution) and took GMRES
-    // hundreds of iterations. Such a row is scaled to 1, keeping its sources' proportions. Rows
+    // hundreds of iterations. Such a row is scaled to 1 on its uncertain part: what the leaf
+    // inherits through its ancestors' links whose visibility rays sampled over more than the
+    // leaf, and its cluster links. A ceiling leaf just above a lamp inherits a view past the
+    // lamp, and scaling the whole row dimmed the lamp's direct light there, and with it the
+    // room's bounced light. Only a leaf whose certain part alone reaches 1 is scaled whole,
+    // keeping its sources' proportions. Rows
     // up to kRowLimit are left: next to a contact line the quadrature reads single leaves up to
     // 1.24 (duplex.wrl), which their neighbours make up (a root keeps its power, above), and
     // scaling those moved duplex's probes away from their Monte Carlo reference.
     static constexpr double kRowLimit = 1.25;
     void limitRowSums() {
+        inherited_scale.assign(leaves.size(), 1.0);
         std::vector<DVec3> saved(leaves.size());
         for (size_t k = 0; k < leaves.size(); ++k) {
             saved[k] = s.elements[leaves[k]].radiosity;
@@ -128,12 +140,18 @@ struct Operator {
         size_t limited = 0;
         for (size_t k = 0; k < leaves.size(); ++k) {
             const Element& leaf = s.elements[leaves[k]];
+            const double certain = correction[k] * (pushed[leaves[k]] - inheritedSampled(leaf)).x;
             double row = correction[k] * pushed[leaves[k]].x;
             if (!clusters.empty()) row += cluster_share[k] * cluster_h[leaf.root].x;
-            if (row > kRowLimit) {
+            if (!(row > kRowLimit)) continue;
+            ++limited;
+            if (certain < 1.0) {
+                const double scale = (1.0 - certain) / (row - certain);
+                inherited_scale[k] = scale;
+                if (!clusters.empty()) cluster_share[k] *= scale;
+            } else {
                 correction[k] /= row;
                 if (!clusters.empty()) cluster_share[k] /= row;
-                ++limited;
             }
         }
         s.stats.limited_row_sums = std::max(s.stats.limited_row_sums, limited);
@@ -145,17 +163,32 @@ struct Operator {
     void gatherElementLinks() {
         runner.forRanges(s.elements.size(), 256, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
-                DVec3 h(0.0);
-                for (size_t l = link_begin[i]; l < link_begin[i + 1]; ++l)
-                    h += s.links[l].form_factor * s.elements[s.links[l].source].radiosity;
+                DVec3 h(0.0), sampled(0.0);
+                for (size_t l = link_begin[i]; l < link_begin[i + 1]; ++l) {
+                    const Link& link = s.links[l];
+                    const DVec3 light = link.form_factor * s.elements[link.source].radiosity;
+                    h += light;
+                    if (link.by_rays || link.visibility < 1.0f) sampled += light;
+                }
                 s.elements[i].gathered = h;
+                pushed_sampled[i] = sampled;
             }
         });
         // Parents precede their children in the element array.
         for (size_t i = 0; i < s.elements.size(); ++i) {
             const Element& e = s.elements[i];
-            pushed[i] = e.gathered + (e.parent == kNoElement ? DVec3(0.0) : pushed[e.parent]);
+            if (e.parent == kNoElement) {
+                pushed[i] = e.gathered;
+                continue;
+            }
+            pushed[i] = e.gathered + pushed[e.parent];
+            pushed_sampled[i] += pushed_sampled[e.parent];
         }
+    }
+
+    // What a leaf inherits through its ancestors' links whose visibility no shaft proved whole.
+    DVec3 inheritedSampled(const Element& leaf) const {
+        return leaf.parent == kNoElement ? DVec3(0.0) : pushed_sampled[leaf.parent];
     }
 
     // y = rho K x (x, y: leaf radiosities / reflected exitance).
@@ -164,8 +197,11 @@ struct Operator {
         pullRadiosity(s);
         gatherElementLinks();
         y.resize(leaves.size());
-        for (size_t k = 0; k < leaves.size(); ++k)
-            y[k] = correction[k] * (s.elements[leaves[k]].reflectance * pushed[leaves[k]]);
+        for (size_t k = 0; k < leaves.size(); ++k) {
+            const Element& leaf = s.elements[leaves[k]];
+            const DVec3 h = pushed[leaves[k]] - (1.0 - inherited_scale[k]) * inheritedSampled(leaf);
+            y[k] = correction[k] * (leaf.reflectance * h);
+        }
         if (clusters.empty()) return;
         // Cluster links bring a uniform irradiance per root; the row-sum correction is for the
         // element links' push-down only (a cluster link's kernel has no exact counterpart

@@ -88,6 +88,47 @@ TEST_CASE("a block hovering 1 mm above a furnace's floor: no surface brighter th
     CHECK(brightest < 1.01);
 }
 
+// A lamp panel 8 cm under a room's ceiling, lighting it from below: the ceiling's leaves above it
+// inherit links (from their ancestors) to the floor and walls whose visibility was judged over
+// more of the ceiling than the lamp hides, so their rows sum past 1.25. Scaling those whole rows
+// also scaled the lamp's own direct light, and the ceiling, the room's main source of bounced
+// light, read a third too dark there. The solve's irradiance at each leaf above the lamp,
+// (B - E) / rho, must match the exhaustive gather at its centroid from the same radiosities.
+TEST_CASE("a ceiling lit by a lamp just under it keeps the lamp's direct light where rows are limited") {
+    for (const LinkVisibility mode : {LinkVisibility::Aabb, LinkVisibility::Exact}) {
+        Scene scene;
+        const uint32_t wall = addMaterial(scene, Vec3(0.8f), Vec3(0.0f));
+        const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
+        addInwardBox(scene, wall, Vec3(0.0f), Vec3(8.0f, 8.0f, 2.6f));
+        const float x0 = 1.9f, x1 = 2.1f, y0 = 1.25f, y1 = 2.75f, up = 2.52025f, down = 2.51975f;
+        addQuad(scene, lamp, {x0, y0, up}, {x1, y0, up}, {x1, y1, up}, {x0, y1, up});        // faces +z
+        addQuad(scene, lamp, {x0, y0, down}, {x0, y1, down}, {x1, y1, down}, {x1, y0, down});  // faces -z
+        Diagnostics diagnostics;
+        const auto solution = solve(scene, medium(mode), diagnostics);
+        REQUIRE(solution);
+        const ReadoutOptions readout = ReadoutOptions::forQuality(Quality::Medium);
+        double solved = 0.0, gathered = 0.0;
+        size_t leaves = 0;
+        for (const Element& e : solution->elements) {
+            if (!e.isLeaf() || e.mesh != 1 || e.centroid.x < x0 || e.centroid.x > x1 || e.centroid.y < y0 ||
+                e.centroid.y > y1)
+                continue;
+            const DVec3 h = probeIrradiance(*solution, readout, e.centroid + 1e-6 * e.normal, e.normal);
+            solved += e.area * (e.radiosity.x - e.emission.x) / e.reflectance.x;
+            gathered += e.area * h.x;
+            ++leaves;
+        }
+        MESSAGE(std::string(toString(mode)) << ": " << leaves << " ceiling leaves over the lamp, rows limited "
+                               << solution->stats.limited_row_sums << ", solved / gathered " << solved / gathered);
+        REQUIRE(leaves > 0);
+        CHECK(solution->stats.limited_row_sums > 0);
+        // 0.64 when whole rows were scaled. What is left is light from past the lamp's edges
+        // that the leaves' own sampled links found blocked.
+        CHECK(solved / gathered > 0.9);
+        CHECK(solved / gathered < 1.02);
+    }
+}
+
 TEST_CASE("irradiance below an emitting unit square: centre and corner (closed forms)") {
     Scene scene;
     const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(2.0f));
