@@ -12,13 +12,17 @@ and their positions checked.
 
 On one channel of each probe's H (`max`, the default: the largest of r, g, b, a luminance-like
 figure that a dark colour channel cannot blow up; `grey` the mean; or r, g or b):
-  - lit: the reference above 1 % of the median reference; every figure is over lit texels;
-  - e = (bake - ref) / ref; bias = mean e; median and p95 (nearest rank) of |e|;
+  - lit: the reference above 1 % of the median of the references above 0 (the faces no path
+    brings light to, such as a closed room's outsides, would otherwise set the scale); every
+    figure is over lit texels;
+  - e = (bake - ref) / ref; bias = mean e (a few texels far too bright dominate it, so the
+    signed median of e is printed beside it); median and p95 (nearest rank) of |e|;
   - noise = mean se / ref, the reference's own standard error relative to its value (for max:
     the se of the channel the max is taken on; for grey: the mean of the three, an upper bound);
 split by edge / inside texel, by brightness class of the reference (shadow below 0.1 x the
 median, mid up to 2 x the median, bright above), by decile of the bake's brightness (the
-stratum texel_probes drew it from), and the 10 meshes with the largest mean |e|.
+stratum texel_probes drew it from), and the 10 meshes, and the 10 mesh families (the name without
+its trailing _N and " (back)": a scene's 40 shelf boards are one family), with the largest mean |e|.
 Python standard library only.
 """
 import argparse
@@ -93,6 +97,7 @@ def summary(samples):
     magnitudes = sorted(abs(e) for e, _ in samples)
     noises = [s for _, s in samples if s is not None]
     return {"n": len(samples), "bias": sum(e for e, _ in samples) / len(samples),
+            "median_signed": percentile(sorted(e for e, _ in samples), 50.0),
             "median": percentile(magnitudes, 50.0), "p95": percentile(magnitudes, 95.0),
             "noise": sum(noises) / len(noises) if noises else None}
 
@@ -108,10 +113,24 @@ def grouped(samples, key):
     return {k: summary(v) for k, v in groups.items()}
 
 
+def family(mesh):
+    """'12 shelf_wood_3 (back)' -> 'shelf_wood'."""
+    name = mesh.split(" ", 1)[1] if " " in mesh else mesh
+    return re.sub(r"(_\d+)?( \(back\))?$", "", name)
+
+
+def worst(samples, key, count=10):
+    groups = grouped(samples, key)
+    for name, g in groups.items():
+        g["mean_abs"] = sum(abs(s["e"]) for s in samples if key(s) == name) / g["n"]
+    ranked = sorted(groups.items(), key=lambda kv: (-kv[1]["mean_abs"], kv[0]))[:count]
+    return [dict(name=name, **g) for name, g in ranked]
+
+
 def score(texels, rows, channel="max"):
     check_positions(texels, rows)
     refs = reference_values(rows, channel)
-    ordered = sorted(v for v, _ in refs)
+    ordered = sorted(v for v, _ in refs if v > 0.0)
     median = ordered[len(ordered) // 2] if ordered else 0.0
     floor = 0.01 * median
     samples = []
@@ -121,38 +140,36 @@ def score(texels, rows, channel="max"):
         bake, _ = pick(t["h"], None, channel)
         samples.append({"e": (bake - ref) / ref, "noise": se / ref if se is not None else None, "edge": t["edge"],
                         "class": brightness_class(ref, median), "decile": t["decile"], "mesh": t["mesh"]})
-    meshes = grouped(samples, lambda s: s["mesh"])
-    for name, m in meshes.items():
-        m["mean_abs"] = sum(abs(s["e"]) for s in samples if s["mesh"] == name) / m["n"]
-    worst = sorted(meshes.items(), key=lambda kv: (-kv[1]["mean_abs"], kv[0]))[:10]
     return {"channel": channel, "probes": len(texels), "lit": len(samples), "median_ref": median, "floor": floor,
             "all": summary([(s["e"], s["noise"]) for s in samples]),
             "by_edge": grouped(samples, lambda s: "edge" if s["edge"] else "inside"),
             "by_class": grouped(samples, lambda s: s["class"]),
             "by_decile": grouped(samples, lambda s: s["decile"]),
-            "worst_meshes": [dict(mesh=name, **m) for name, m in worst]}
+            "worst_meshes": worst(samples, lambda s: s["mesh"]),
+            "worst_families": worst(samples, lambda s: family(s["mesh"]))}
 
 
 def line(name, s):
     if not s.get("n"):
-        return "  %-28s n=0" % name
+        return "  %-36s n=0" % name
     noise = "%.4f" % s["noise"] if s.get("noise") is not None else "-"
-    return "  %-28s n=%-4d bias %+.4f  median %.4f  p95 %.4f  noise %s" % (name, s["n"], s["bias"], s["median"],
-                                                                          s["p95"], noise)
+    return "  %-36s n=%-4d bias %+9.4f  median e %+.4f  median |e| %.4f  p95 |e| %8.4f  noise %s" % (
+        name, s["n"], s["bias"], s["median_signed"], s["median"], s["p95"], noise)
 
 
 def report(r):
-    out = ["channel %s; %d probes, %d lit (reference above %.4g W/m^2, 1%% of the median %.4g)" %
+    out = ["channel %s; %d probes, %d lit (reference above %.4g W/m^2, 1%% of the median lit reference %.4g)" %
            (r["channel"], r["probes"], r["lit"], r["floor"], r["median_ref"]),
-           "e = (bake - ref) / ref; bias = mean e; median, p95 of |e|; noise = mean se / ref",
+           "e = (bake - ref) / ref; bias = mean e; noise = mean se / ref (the reference's own error)",
            line("all", r["all"])]
     out += [line(k, r["by_edge"][k]) for k in ("inside", "edge") if k in r["by_edge"]]
     out.append("by reference brightness (shadow < %g x median <= mid < %g x median <= bright):" % (SHADOW, BRIGHT))
     out += [line(k, r["by_class"][k]) for k in ("shadow", "mid", "bright") if k in r["by_class"]]
     out.append("by decile of the bake's brightness:")
     out += [line("decile %d" % d, r["by_decile"][d]) for d in sorted(r["by_decile"])]
-    out.append("worst meshes by mean |e|:")
-    out += [line(m["mesh"][:28], m) + "  mean|e| %.4f" % m["mean_abs"] for m in r["worst_meshes"]]
+    for title, key in (("meshes", "worst_meshes"), ("mesh families", "worst_families")):
+        out.append("worst %s by mean |e|:" % title)
+        out += [line(m["name"][:36], m) + "  mean|e| %.4f" % m["mean_abs"] for m in r[key]]
     return "\n".join(out)
 
 
