@@ -12,7 +12,8 @@
 // scene is read and charted as bake() does (back twins, chartBakeLightmaps, packLightmapCharts),
 // the atlases named in BAKE_DIR/manifest.json are read, and the layout is checked against
 // them: as many atlases of the same sizes, no light outside the charts' padded rectangles, most
-// covered texels lit; else exit 1 naming what differs.
+// covered texels lit, and the covered and hidden texel counts of its stats.json; else exit 1
+// naming what differs.
 //
 // Of the covered texels that are not hidden inside geometry, N are chosen (deterministic given
 // S), the same number from each tenth of them by brightness (max channel), so shadows count as
@@ -25,9 +26,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -199,8 +202,27 @@ std::vector<Texel> coveredTexels(const LightmapLayout& layout, const std::vector
     return texels;
 }
 
-// A layout that is not the bake's puts light outside its charts or leaves its charts dark.
+// The whole number after `"key":` in the bake's stats.json, or -1 when it has none (a bake
+// without lightmaps, an older stats.json).
+long long statsCount(const fs::path& bake_dir, const std::string& key) {
+    std::ifstream file(bake_dir / "stats.json");
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const size_t at = text.find("\"" + key + "\":");
+    return at == std::string::npos ? -1 : std::atoll(text.c_str() + at + key.size() + 3);
+}
+
+void checkCount(const std::string& bake_dir, const std::string& key, size_t rebuilt) {
+    const long long baked = statsCount(bake_dir, key);
+    if (baked >= 0 && static_cast<size_t>(baked) != rebuilt)
+        fail(bake_dir + "/stats.json: " + key + " " + std::to_string(baked) + ", the rebuilt layout's " +
+             std::to_string(rebuilt) + ": not this layout's bake (other options?)");
+}
+
+// A layout that is not the bake's puts light outside its charts, leaves its charts dark or
+// counts other texels.
 void checkLayout(const LayoutCheck& check, const std::string& bake_dir) {
+    checkCount(bake_dir, "covered_texels", check.covered);
+    checkCount(bake_dir, "hidden_texels", check.hidden);
     if (check.lit_outside > 0)
         fail(bake_dir + ": " + std::to_string(check.lit_outside) +
              " texels hold light outside the rebuilt layout's charts: not this layout's bake (other options?)");
