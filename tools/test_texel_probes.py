@@ -178,6 +178,8 @@ def test_read_back(radbake, tmp, solution, probes, texels):
     check(abs(scored["by_edge"]["inside"]["median"] - median) < 1e-12,
           "texel_error's inside median %s, this test's %s" % (scored["by_edge"]["inside"]["median"], median))
     check(scored["all"]["noise"] is None, "texel_error: a noise figure without se columns")
+    itself = texel_error.score(texel_error.with_values(texels, rows), rows)  # --bake: the probes scored
+    check(itself["all"]["p95"] == 0.0, "texel_error --bake: probes.csv against itself %s" % itself["all"])
 
 
 LITERAL_PROBES = """# fabricated

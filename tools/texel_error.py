@@ -1,14 +1,17 @@
 #!/usr/bin/env python3
 """A bake's lightmap at its texels against a reference (issue 27's texel yardstick).
 
-    python3 tools/texel_error.py TEXEL.probes REFERENCE.csv [--channel max|grey|r|g|b] [--json]
+    python3 tools/texel_error.py TEXEL.probes REFERENCE.csv [--channel max|grey|r|g|b] [--bake PROBES.csv]
+                                 [--json]
 
 TEXEL.probes is what tools/texel_probes wrote for a bake: one probe at the sample point of each
 chosen texel, its comment holding the lightmap's value there (H = pi x the atlas value, W/m^2),
 its atlas texel, edge or inside, its brightness decile and its mesh. REFERENCE.csv is
 `reference_mc SCENE TEXEL.probes -o REFERENCE.csv` (x..nz, r, g, b, se_r, se_g, se_b), or any
 probes.csv of the same probe file (no se columns: no noise figure). Rows are matched by order
-and their positions checked.
+and their positions checked. With --bake, the values scored are that probes.csv's instead of the
+lightmap's (`radbake bake --probes TEXEL.probes --solution ...`: the same solution read at the same
+points by the probe read-out), which tells the solution's error from the lightmap's.
 
 On one channel of each probe's H (`max`, the default: the largest of r, g, b, a luminance-like
 figure that a dark colour channel cannot blow up; `grey` the mean; or r, g or b):
@@ -88,6 +91,12 @@ def check_positions(texels, rows):
         ref = [float(row[k]) for k in "xyz"]
         if max(abs(a - b) for a, b in zip(t["position"], ref)) > 1e-6 * (1.0 + max(abs(v) for v in ref)):
             raise ValueError("probe %d: at %s in the probe file, %s in the reference" % (i, t["position"], ref))
+
+
+def with_values(texels, rows):
+    """The texels with H taken from probes.csv rows of the same probe file."""
+    check_positions(texels, rows)
+    return [dict(t, h=[float(row[k]) for k in "rgb"]) for t, row in zip(texels, rows)]
 
 
 def summary(samples):
@@ -178,10 +187,14 @@ def main(argv):
     parser.add_argument("probes", help="texel_probes output")
     parser.add_argument("reference", help="reference_mc CSV (or a probes.csv) of that probe file")
     parser.add_argument("--channel", choices=CHANNELS, default="max")
+    parser.add_argument("--bake", help="score this probes.csv of the same probes instead of the lightmap values")
     parser.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     args = parser.parse_args(argv)
     try:
-        result = score(read_texel_probes(args.probes), read_csv_rows(args.reference), args.channel)
+        texels = read_texel_probes(args.probes)
+        if args.bake:
+            texels = with_values(texels, read_csv_rows(args.bake))
+        result = score(texels, read_csv_rows(args.reference), args.channel)
     except (OSError, ValueError, KeyError) as e:
         print("texel_error: error: %s" % e, file=sys.stderr)
         return 1
