@@ -20,16 +20,8 @@ constexpr double kFullCoverage = 1.0 - 1e-6;
 // a bound in tolerances would refuse every 8-texel block on them.
 constexpr double kMaxSpread = 0.5;
 
-enum Cover : uint8_t { kEmpty = 0, kPartial = 1, kFull = 2 };
+constexpr TexelCover kEmpty = TexelCover::Empty, kPartial = TexelCover::Partial, kFull = TexelCover::Full;
 enum Fill : uint8_t { kNone = 0, kEvaluated = 1, kInterpolated = 2 };
-
-struct Site {
-    DVec2 p_plane{0.0};
-    uint32_t face = 0;
-    Cover cover = kEmpty;
-    bool must = false;  // partly covered or beside a texel that is not fully covered
-    bool hidden = false;  // covered, but its sample point is inside geometry (left Empty)
-};
 
 // One chart's texels, flattened into the global arrays at `offset`.
 struct ChartSpan {
@@ -46,7 +38,7 @@ struct State {
     const LightmapLayout& layout;
     const IrradianceFunction& irradiance;
     std::vector<ChartSpan> spans{};
-    std::vector<Site> sites{};
+    std::vector<TexelSite> sites{};
     std::vector<DVec3> values{};  // H / pi
     std::vector<Fill> fill{};
     std::vector<uint8_t> requested{};
@@ -191,6 +183,39 @@ void interpolateOwned(State& s, const Block& b) {
 
 }  // namespace
 
+std::vector<TexelSite> chartTexelSites(const LightmapChart& chart, ParallelRunner& runner, const HiddenTest& hidden) {
+    const int width = chart.width, height = chart.height;
+    std::vector<TexelSite> sites(static_cast<size_t>(width) * height);
+    runner.forRanges(sites.size(), 64, [&](size_t begin, size_t end) {
+        for (size_t t = begin; t < end; ++t) {
+            TexelSite& site = sites[t];
+            size_t face = 0;
+            const double covered =
+                texelCoverage(chart, static_cast<int>(t % width), static_cast<int>(t / width), site.p_plane, face);
+            site.face = static_cast<uint32_t>(face);
+            site.cover = covered <= 0.0 ? kEmpty : covered >= kFullCoverage ? kFull : kPartial;
+            if (site.cover == kEmpty || !hidden) continue;
+            const ChartFace& on = chart.faces[face];
+            if (hidden({on.worldPoint(site.p_plane), on.normal_world, chart.mesh, on.triangle})) {
+                site.cover = kEmpty;
+                site.hidden = true;
+            }
+        }
+    });
+    const auto full = [&](int i, int j) {
+        return i >= 0 && j >= 0 && i < width && j < height && sites[static_cast<size_t>(j) * width + i].cover == kFull;
+    };
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i) {
+            TexelSite& site = sites[static_cast<size_t>(j) * width + i];
+            if (site.cover == kEmpty) continue;
+            site.edge = site.cover == kPartial;
+            for (int dj = -1; dj <= 1 && !site.edge; ++dj)
+                for (int di = -1; di <= 1 && !site.edge; ++di) site.edge = !full(i + di, j + dj);
+        }
+    return sites;
+}
+
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
                                       Progress* progress, const HiddenTest& hidden) {
@@ -205,30 +230,14 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
     s.fill.assign(total, kNone);
     s.requested.assign(total, 0);
 
-    // Sample points and coverage of every texel.
+    // Sample points, coverage and edges of every texel.
     for (uint32_t c = 0; c < layout.charts.size(); ++c) {
-        const LightmapChart& chart = layout.charts[c];
-        const ChartSpan span = s.spans[c];
-        runner.forRanges(static_cast<size_t>(span.width) * span.height, 64, [&](size_t begin, size_t end) {
-            for (size_t t = begin; t < end; ++t) {
-                Site& site = s.sites[span.offset + t];
-                size_t face = 0;
-                const double covered = texelCoverage(chart, static_cast<int>(t % span.width),
-                                                     static_cast<int>(t / span.width), site.p_plane, face);
-                site.face = static_cast<uint32_t>(face);
-                site.cover = covered <= 0.0 ? kEmpty : covered >= kFullCoverage ? kFull : kPartial;
-                if (site.cover != kEmpty && hidden) {
-                    const ChartFace& on = chart.faces[face];
-                    if (hidden({on.worldPoint(site.p_plane), on.normal_world, chart.mesh, on.triangle})) {
-                        site.cover = kEmpty;
-                        site.hidden = true;
-                    }
-                }
-            }
-        });
+        if (s.spans[c].width == 0) continue;
+        const std::vector<TexelSite> sites = chartTexelSites(layout.charts[c], runner, hidden);
+        std::copy(sites.begin(), sites.end(), s.sites.begin() + static_cast<std::ptrdiff_t>(s.spans[c].offset));
     }
     size_t hidden_texels = 0;
-    for (const Site& site : s.sites) {
+    for (const TexelSite& site : s.sites) {
         s.covered += site.cover != kEmpty ? 1 : 0;
         hidden_texels += site.hidden ? 1 : 0;
     }
@@ -239,17 +248,11 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
         const ChartSpan& span = s.spans[c];
         for (int j = 0; j < span.height; ++j)
             for (int i = 0; i < span.width; ++i) {
-                Site& site = s.sites[span.offset + static_cast<size_t>(j) * span.width + i];
+                const TexelSite& site = s.sites[span.offset + static_cast<size_t>(j) * span.width + i];
                 if (site.cover == kEmpty) continue;
-                site.must = tolerance <= 0.0 || site.cover == kPartial;
-                for (int dj = -1; dj <= 1 && !site.must; ++dj)
-                    for (int di = -1; di <= 1 && !site.must; ++di) {
-                        const int ni = i + di, nj = j + dj;
-                        site.must = ni < 0 || nj < 0 || ni >= span.width || nj >= span.height ||
-                                    s.sites[span.offset + static_cast<size_t>(nj) * span.width + ni].cover != kFull;
-                    }
-                if (site.must) request(s, span.offset + static_cast<size_t>(j) * span.width + i, batch);
-                required += site.must;
+                const bool must = tolerance <= 0.0 || site.edge;
+                if (must) request(s, span.offset + static_cast<size_t>(j) * span.width + i, batch);
+                required += must;
             }
         if (tolerance <= 0.0 || span.width == 0) continue;
         const std::vector<int> is = lattice(span.width, kCoarsestStep), js = lattice(span.height, kCoarsestStep);

@@ -11,6 +11,7 @@
 // fit adjusts) are always evaluated. A smooth edge inside a chart (faces with different
 // normals see different light) is a step like a shadow edge: the test points find it.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "bake/lightmap_bake.h"
@@ -26,6 +27,27 @@ inline constexpr int kCoarsestStep = 8;
 // visible next to the bright parts, and relative agreement in near-black would force every
 // dark texel to be evaluated.
 inline constexpr double kDarkFloor = 1e-2;
+
+// How much of a texel's square its chart's faces cover.
+enum class TexelCover : uint8_t { Empty = 0, Partial = 1, Full = 2 };
+
+// One texel of a chart as the evaluation sees it. An edge texel is partly covered, or beside
+// (8-neighbour, or past the chart's border) a texel that is not fully covered: bilinear lookups
+// along chart edges read it and the seam fit adjusts it, so it is evaluated whatever the tolerance.
+struct TexelSite {
+    DVec2 p_plane{0.0};    // where it is evaluated (texelCoverage)
+    uint32_t face = 0;     // index into LightmapChart::faces
+    TexelCover cover = TexelCover::Empty;  // Empty too when hidden
+    bool hidden = false;   // covered, but its sample point is inside geometry (dilated instead)
+    bool edge = false;     // covered and on the chart's edge, as above
+};
+
+// Every texel of a chart, row by row (width x height), sample points found on the runner's
+// threads; `hidden` (when given) empties texels inside geometry, which makes their neighbours
+// edge texels. The one definition of coverage and edges that evaluateTexelsAdaptive uses, for
+// tools that need to know which texels a bake evaluated and why.
+std::vector<TexelSite> chartTexelSites(const LightmapChart& chart, ParallelRunner& runner,
+                                       const HiddenTest& hidden = {});
 
 struct AdaptiveCounts {
     size_t covered = 0;       // texels with geometry (all filled, evaluated or interpolated)

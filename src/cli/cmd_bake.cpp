@@ -59,11 +59,9 @@ struct BakeArgs {
 };
 
 // Upper bounds of the numeric options: far above any real use, well below what breaks
-// (ten million threads crash TBB; an unbounded density or budget overflows the arithmetic).
+// (ten million threads crash TBB); the lightmap options' bounds live with them (option_checks.cpp).
 constexpr long long kMaxThreads = 1024;
 constexpr long long kMaxIterations = 1000000;
-constexpr double kMaxTexelDensity = 1e6;   // texels per scene unit
-constexpr long long kMaxTexels = 1LL << 32;
 
 const std::vector<std::pair<std::string, Quality>> kQualities = {
     {"draft", Quality::Draft}, {"medium", Quality::Medium}, {"high", Quality::High}, {"reference", Quality::Reference}};
@@ -282,31 +280,13 @@ void addBakeCommand(CLI::App& app, int& result) {
                     "same (iterating on lightmap, vertex or probe settings), else solve and save it there")
         ->check(nonEmptyPath());
     cmd->add_flag("--no-lightmaps", args->no_lightmaps, "Bake per-vertex light only: no lightmaps/ EXRs, no TEXCOORD_1");
-    cmd->add_option("--texel-density", args->lightmaps.texels_per_unit, "Lightmap texels per scene unit")
-        ->check(positiveReal(kMaxTexelDensity))
-        ->default_str("16 per metre, from --unit-scale");
-    cmd->add_option("--atlas-size", args->lightmaps.atlas_size, "Largest lightmap atlas side, in texels")
-        ->transform(wholeIn(16, 16384))
-        ->capture_default_str();
-    cmd->add_option("--padding", args->lightmaps.padding,
-                    "Texels around every chart, filled by dilation, so bilinear filtering never reads a neighbour")
-        ->transform(wholeIn(0, 64))
-        ->capture_default_str();
+    addLightmapLayoutOptions(*cmd, args->lightmaps, args->lightmap_scales);
     args->texel_tolerance_option =
         cmd->add_option("--texel-tolerance", args->lightmaps.texel_tolerance,
                         "Interpolate a block of lightmap texels when the texels evaluated in it agree within this "
                         "fraction (0: evaluate every texel); " +
                             presetValuesOf([](const BakeOptions& preset) { return preset.lightmaps.texel_tolerance; }))
             ->check(nonNegativeReal(1.0));
-    cmd->add_option("--max-texels", args->lightmaps.max_texels,
-                    "Most lightmap texels (charts, padding excluded) a bake may evaluate; over it the default "
-                    "density is lowered with a warning, a given --texel-density is an error")
-        ->transform(wholeIn(1, kMaxTexels))
-        ->capture_default_str();
-    cmd->add_option("--lightmap-scales", args->lightmap_scales,
-                    "Per-object lightmap density: a file of 'NAME SCALE' lines, NAME a mesh or material name, "
-                    "SCALE a factor on --texel-density for its meshes (applied within --max-texels)")
-        ->check(nonEmptyPath());
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
     cmd->add_flag("--preview", args->preview,
                   "Also write preview/: a tone-mapped PNG of each atlas and a view of the baked scene");

@@ -110,6 +110,34 @@ void addMaxMemoryOption(CLI::App& command, double& max_memory_mb) {
         ->capture_default_str();
 }
 
+void addLightmapLayoutOptions(CLI::App& command, LightmapSettings& lightmaps, std::string& lightmap_scales) {
+    // Far above any real use, well below what overflows the texel arithmetic.
+    constexpr double kMaxTexelDensity = 1e6;  // texels per scene unit
+    constexpr long long kMaxTexels = 1LL << 32;
+    command.add_option("--texel-density", lightmaps.texels_per_unit, "Lightmap texels per scene unit")
+        ->check(positiveReal(kMaxTexelDensity))
+        ->default_str("16 per metre, from --unit-scale");
+    command.add_option("--atlas-size", lightmaps.atlas_size, "Largest lightmap atlas side, in texels")
+        ->transform(wholeIn(16, 16384))
+        ->capture_default_str();
+    command
+        .add_option("--padding", lightmaps.padding,
+                    "Texels around every chart, filled by dilation, so bilinear filtering never reads a neighbour")
+        ->transform(wholeIn(0, 64))
+        ->capture_default_str();
+    command
+        .add_option("--max-texels", lightmaps.max_texels,
+                    "Most lightmap texels (charts, padding excluded) a bake may evaluate; over it the default "
+                    "density is lowered with a warning, a given --texel-density is an error")
+        ->transform(wholeIn(1, kMaxTexels))
+        ->capture_default_str();
+    command
+        .add_option("--lightmap-scales", lightmap_scales,
+                    "Per-object lightmap density: a file of 'NAME SCALE' lines, NAME a mesh or material name, "
+                    "SCALE a factor on --texel-density for its meshes (applied within --max-texels)")
+        ->check(nonEmptyPath());
+}
+
 CLI::Validator nonEmptyPath() {
     return CLI::Validator([](std::string& text) { return text.empty() ? std::string("an empty path is not a file") : ""; },
                           "");

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "io/import.h"
+#include "pipeline/bake_options.h"
 
 namespace radbake::cli {
 
@@ -33,5 +34,10 @@ void addReadRootOption(CLI::App& command, ImportOptions& import);
 
 // --max-memory MB: the one budget of the whole command (import, textures, validation, solve).
 void addMaxMemoryOption(CLI::App& command, double& max_memory_mb);
+
+// The options that shape a bake's lightmap layout besides the scale: --texel-density,
+// --atlas-size, --padding, --max-texels and --lightmap-scales FILE (its path, read later).
+// `bake` and the tools that rebuild a bake's layout (tools/texel_probes) take the same ones.
+void addLightmapLayoutOptions(CLI::App& command, LightmapSettings& lightmaps, std::string& lightmap_scales);
 
 }  // namespace radbake::cli

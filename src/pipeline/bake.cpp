@@ -166,13 +166,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     // Before the solve: a lightmap budget error should not cost a solve first.
     std::optional<LightmapCharts> charts;
     if (options.lightmaps.enabled) {
-        const LightmapBudget budget{.texels_per_unit = options.lightmaps.texels_per_unit,
-                                    .metres_per_unit = metres_per_unit,
-                                    .max_texels = options.lightmaps.max_texels};
-        LightmapOptions lightmap_options = lightmapOptions(options.lightmaps);
-        if (!options.lightmaps.scales.empty())
-            lightmap_options.mesh_texel_scale = meshTexelScales(scene, options.lightmaps.scales, diagnostics);
-        charts = chartLightmapsWithinBudget(scene, std::move(lightmap_options), budget, diagnostics);
+        charts = chartBakeLightmaps(scene, options, diagnostics);
         if (!charts) return (void)stopped();
         options.lightmaps.texels_per_unit = charts->options.texels_per_metre * metres_per_unit;
     }
@@ -304,6 +298,17 @@ Bake bakeScene(Scene&& scene, const BakeOptions& options, Progress& progress, Di
 }
 
 }  // namespace
+
+std::optional<LightmapCharts> chartBakeLightmaps(const Scene& scene, const BakeOptions& options,
+                                                 Diagnostics& diagnostics) {
+    const LightmapBudget budget{.texels_per_unit = options.lightmaps.texels_per_unit,
+                                .metres_per_unit = static_cast<double>(options.import.unit_scale),
+                                .max_texels = options.lightmaps.max_texels};
+    LightmapOptions lightmap_options = lightmapOptions(options.lightmaps);
+    if (!options.lightmaps.scales.empty())
+        lightmap_options.mesh_texel_scale = meshTexelScales(scene, options.lightmaps.scales, diagnostics);
+    return chartLightmapsWithinBudget(scene, std::move(lightmap_options), budget, diagnostics);
+}
 
 const char* toString(BakeStatus status) {
     switch (status) {

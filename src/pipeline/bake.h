@@ -68,6 +68,14 @@ Bake bake(const std::string& path, const BakeOptions& options, Progress& progres
 // not used (probe positions are in metres too).
 Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
 
+// The lightmap charts bake() fills for `scene` (its back twins added): options.lightmaps'
+// atlas size, padding, tolerance and per-mesh scales, at the density asked for within the
+// texel budget (options.import.unit_scale converts it). bake() builds them before its solve;
+// a tool that rebuilds a bake's lightmap layout calls this, then packLightmapCharts.
+// nullopt after reporting (a density over the budget).
+std::optional<LightmapCharts> chartBakeLightmaps(const Scene& scene, const BakeOptions& options,
+                                                 Diagnostics& diagnostics);
+
 // What writeBake wrote.
 struct WrittenBake {
     std::vector<std::string> files;  // relative to the folder, in writing order
