@@ -5,8 +5,9 @@
 // of surface (one-sided, front and back of two-sided meshes), the leaves losing the most light
 // (area x H), and the element links reaching the worst of them with their form factor and
 // visibility beside the leaf's own (its Gauss-averaged form factor, 8 x 8 rays).
-//   solve_consistency SCENE [--quality draft|medium|high] [--threads N] [--every K=17]
-// K: every K-th leaf of reflectance above 0.05 is read.
+//   solve_consistency SCENE [--quality draft|medium|high] [--threads N] [--every K=17] [--explain R=0]
+// K: every K-th leaf of reflectance above 0.05 is read; R: the rank, by lost light, of the leaf
+// whose links are listed.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,12 +28,13 @@ int main(int argc, char** argv) {
     if (argc < 2) return 2;
     std::string quality = "medium";
     int threads = 0;
-    size_t every = 17;
+    size_t every = 17, explain = 0;
     for (int i = 2; i + 1 < argc; i += 2) {
         const std::string key = argv[i];
         if (key == "--quality") quality = argv[i + 1];
         else if (key == "--threads") threads = std::atoi(argv[i + 1]);
         else if (key == "--every") every = std::strtoul(argv[i + 1], nullptr, 10);
+        else if (key == "--explain") explain = std::strtoul(argv[i + 1], nullptr, 10);
     }
     Diagnostics diagnostics;
     diagnostics.sink = [](const Diagnostic&) {};
@@ -98,10 +100,10 @@ int main(int argc, char** argv) {
                     loss(j), solved[j], gathered[j], e.area, e.mesh, m.name.c_str(), m.back ? " (back)" : "",
                     e.centroid.x, e.centroid.y, e.centroid.z, e.normal.x, e.normal.y, e.normal.z);
     }
-    // The links reaching the worst leaf and its ancestors: F, V, and the exact average with
-    // 8 x 8 rays.
-    if (!order.empty()) {
-        const uint32_t leaf = sample[order[0]];
+    // The links reaching the leaf of rank `explain` and its ancestors: F, V, and the exact
+    // average with 8 x 8 rays.
+    if (explain < order.size()) {
+        const uint32_t leaf = sample[order[explain]];
         const Element& le = s->elements[leaf];
         std::vector<size_t> begin(s->elements.size() + 1, 0);
         for (const Link& link : s->links) ++begin[link.receiver + 1];
