@@ -273,7 +273,7 @@ void addBakeCommand(CLI::App& app, int& result) {
                     "Correct points on concave edges and corners for the darkening of the face beside them: "
                     "on (medium, high, reference): every such point, vertices, texels and probes; shared: "
                     "texels, and output vertices only where the faces beside have vertices too (a room's "
-                    "edges, not a block's foot), 0.4 x on's vertex time; off (draft)")
+                    "edges, not a block's foot), 0.4 x on's vertex time (draft); off")
         ->check(CLI::IsMember({"off", "shared", "on"}));
     cmd->add_option("--solution", args->solution_file,
                     "Reuse the radiosity solution saved in this file when the scene and solver settings are the "

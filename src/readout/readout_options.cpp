@@ -11,7 +11,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_samples = 2;
             o.probe_visibility_ratio = 0.03;
             o.probe_visibility_coarse = 0.2;
-            o.edge_correction = EdgeCorrection::Off;
+            o.edge_correction = EdgeCorrection::Shared;
             o.probe_grazing_corner_rays = false;
             break;
         case Quality::Medium:

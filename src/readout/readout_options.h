@@ -44,8 +44,8 @@ struct ReadoutOptions {
     // steep toward that corner only (gather.h, kGrazingKernelRatio). Medium; high and
     // reference cast corner rays everywhere.
     bool probe_grazing_corner_rays = true;
-    // Off at draft, On above: Shared leaves a block's feet on a floor uncorrected
-    // (docs/results.md has the figures).
+    // Shared at draft (a room's edges and corners, at about draft's cost), On above: Shared
+    // leaves a block's feet on a floor uncorrected (docs/results.md has the figures).
     EdgeCorrection edge_correction = EdgeCorrection::On;
 
     static ReadoutOptions forQuality(Quality quality);  // fills every knob from a preset

@@ -59,21 +59,16 @@ double solvedIrradiance(const Solution& solution, uint32_t leaf) {
 // Where the solve lit the leaves of the faces around a vertex (in `group`'s plane) very
 // unequally (the dimmest below kUnequalLeaves of the brightest), a shadow or contact line runs
 // through the vertex, and each leaf's links carry visibility averaged over a leaf mostly on one
-// side of it: read through the first face's links, a vertex 2 mm from the tessellated Cornell
-// box's tall block read 0.24 of 0.52 W/m^2 (the tile mostly under the block), one under the lamp
-// three times its light (a tile reaching past the lamp's shadow). There the vertex takes the mean
-// of the reconstruction through each of those leaves. The exhaustive gather would be right
-// (the box's vertices 4.2 % RMS against 5.6 % with the mean, 7.3 % through the first face) but
-// cost house.wrl's vertices 87 us each instead of 32 (it visits every root).
+// side of it: read through one face's links, a vertex beside a block took the light of a tile
+// mostly under it, and a ceiling vertex over a lamp hung just below it the light of a tile
+// reaching past the lamp's shadow (the mean over the leaves, too, read it twice its light). There
+// the vertex takes the exhaustive gather, which reads every root with rays at the point; few
+// vertices are such, so the vertex phase costs about the same.
 constexpr double kUnequalLeaves = 0.5;
 
-DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, const WeldedPoint& point,
-                   const Incident& group) {
-    const auto read = [&](const Incident& f) {
-        return links.irradianceUncorrected(f.mesh, f.triangle, point.p, group.normal);
-    };
+DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, const ReadoutOptions& options,
+                   const WeldedPoint& point, const Incident& group) {
     std::array<uint32_t, 16> leaves{};
-    std::array<const Incident*, 16> faces{};
     size_t count = 0;
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
     for (const Incident& f : point.faces) {
@@ -82,16 +77,14 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
         if (leaf == kNoElement || std::find(leaves.begin(), leaves.begin() + count, leaf) != leaves.begin() + count)
             continue;
         if (count == leaves.size()) break;
-        leaves[count] = leaf;
-        faces[count++] = &f;
+        leaves[count++] = leaf;
         const double h = solvedIrradiance(solution, leaf);
         lo = std::min(lo, h);
         hi = std::max(hi, h);
     }
-    if (count < 2 || !(hi > 0.0) || lo >= kUnequalLeaves * hi) return read(group);
-    DVec3 sum(0.0);
-    for (size_t k = 0; k < count; ++k) sum += read(*faces[k]);
-    return sum / double(count);
+    if (count < 2 || !(hi > 0.0) || lo >= kUnequalLeaves * hi)
+        return links.irradianceUncorrected(group.mesh, group.triangle, point.p, group.normal);
+    return probeIrradiance(solution, options, point.p, group.normal, group.mesh);
 }
 
 // The direction into the group's faces at the point: the mean of the unit directions to its
@@ -180,7 +173,7 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, const Read
             point.groups = groupByNormal(point.faces);
             for (const Incident& g : point.groups)
                 point.h.push_back(!lit   ? DVec3(0.0)
-                                  : links ? irradianceAt(solution, *links, point, g)
+                                  : links ? irradianceAt(solution, *links, options, point, g)
                                           : probeIrradiance(solution, options, point.p, g.normal, g.mesh));
             if (links && options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
         }
