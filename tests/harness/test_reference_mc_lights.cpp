@@ -1,5 +1,5 @@
 // The Monte Carlo reference's punctual lights (tools/reference_mc.h): direct light against
-// closed forms, and one bounce against a form factor.
+// closed forms, one bounce against a form factor and against conservation of energy.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -181,6 +181,54 @@ TEST_CASE("reference MC punctual lights: one bounce off a floor lit by a scoped 
     const reference::McProbeResult under = estimate(scene, below, 16384)[0];
     CHECK(std::abs(under.irradiance.x - exact) < 4.0 * under.standard_error.x);
     CHECK(estimate(scene, probe, 1024)[0].irradiance == DVec3(0.0));
+}
+
+TEST_CASE("reference MC punctual lights: a closed grey box absorbs all a point light emits") {
+    // Inside a closed box of reflectance rho every watt the light emits (4 pi I) is absorbed,
+    // (1 - rho) H per unit area, so the area mean of H is 4 pi I / ((1 - rho) A), wherever the
+    // light is. Its direct part, I cos / d^2 (nothing hides the light in a box), averages to
+    // 4 pi I / A; the rest, rho / (1 - rho) of it, is what bounces. Probes uniform over the
+    // walls make the mean of (H - direct) an unbiased estimate of the bounced part, whose spread
+    // over the probes gives its standard error.
+    Scene scene;
+    const double rho = 0.5, intensity = 1.0;
+    const DVec3 size(2.0, 1.5, 1.0), light(0.7, 0.6, 0.45);
+    addInwardBox(scene, addMaterial(scene, Vec3(float(rho)), Vec3(0.0f)), Vec3(0.0f), Vec3(size));
+    scene.lights.push_back(pointLight(Vec3(light), float(intensity)));
+    const double area = 2.0 * (size.x * size.y + size.x * size.z + size.y * size.z);
+    const double bounced = 4.0 * kPi * intensity / area * rho / (1.0 - rho);
+
+    std::vector<reference::McProbe> probes;
+    std::vector<double> direct;
+    reference::McRandom random(11);
+    for (int i = 0; i < 1024; ++i) {
+        DVec3 p(random.uniform() * size.x, random.uniform() * size.y, random.uniform() * size.z);
+        // A face chosen by area: pin p to it.
+        const double pick = random.uniform() * area / 2.0;
+        const int axis = pick < size.x * size.y ? 2 : pick < size.x * size.y + size.x * size.z ? 1 : 0;
+        const bool high = random.uniform() < 0.5;
+        p[axis] = high ? size[axis] : 0.0;
+        DVec3 n(0.0);
+        n[axis] = high ? -1.0 : 1.0;
+        probes.push_back({p, n});
+        const DVec3 to = light - p;
+        direct.push_back(intensity * glm::dot(n, to) / std::pow(glm::dot(to, to), 1.5));
+    }
+    for (bool next_event : {true, false}) {
+        CAPTURE(next_event);
+        const std::vector<reference::McProbeResult> results = estimate(scene, probes, 256, next_event);
+        double sum = 0.0, sum_sq = 0.0;
+        for (size_t i = 0; i < probes.size(); ++i) {
+            const double b = results[i].irradiance.x - direct[i];
+            sum += b;
+            sum_sq += b * b;
+        }
+        const double n = double(probes.size()), mean = sum / n;
+        const double se = std::sqrt((sum_sq - sum * sum / n) / (n - 1.0) / n);
+        MESSAGE("bounced irradiance: mean over the walls " << mean << " +- " << se << ", exact " << bounced);
+        CHECK(se < 0.01 * bounced);
+        CHECK(std::abs(mean - bounced) < 4.0 * se);
+    }
 }
 
 TEST_CASE("reference MC punctual lights: the same answer for any thread count") {
