@@ -1,10 +1,12 @@
 // The Monte Carlo reference's punctual lights (tools/reference_mc.h): direct light against
-// closed forms, one bounce against a form factor and against conservation of energy.
+// closed forms, one bounce against a form factor and against conservation of energy, and a lit
+// room against radbake's own solve.
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "readout/evaluate_probe.h"
 #include "reference_mc.h"
 #include "../radiosity/test_scenes.h"
 
@@ -249,4 +251,77 @@ TEST_CASE("reference MC punctual lights: the same answer for any thread count") 
         CHECK(one[i].irradiance == three[i].irradiance);
         CHECK(one[i].rays == three[i].rays);
     }
+}
+
+TEST_CASE("reference MC and radbake agree on a room lit by a point light and a spot light") {
+    // Agreement, not an oracle: radbake's probes (what `radbake bake --probes` reads, at high
+    // quality) against the reference, each within the reference's noise plus a few percent of
+    // the solver's own error. Both take the direct light exactly; they differ in the bounces.
+    // A grey room [0,4] x [0,3] x [0,2.5], a darker block on its floor, a white point light
+    // and a tinted spot light aimed down at the block's top.
+    Scene scene;
+    addInwardBox(scene, addMaterial(scene, Vec3(0.6f), Vec3(0.0f)), Vec3(0.0f), Vec3(4.0f, 3.0f, 2.5f));
+    addOutwardBox(scene, addMaterial(scene, Vec3(0.4f), Vec3(0.0f)), Vec3(2.4f, 1.0f, 0.0f), Vec3(3.2f, 1.8f, 0.8f));
+    scene.lights.push_back(pointLight({1.0f, 1.5f, 2.0f}, 2.0f));
+    scene.lights.push_back(spotLight({2.8f, 1.4f, 2.4f}, {0, 0, -1}, 0.35f, 0.6f));
+    scene.lights.back().intensity = 6.0f;
+    scene.lights.back().color = Vec3(1.0f, 0.8f, 0.6f);
+    const std::vector<reference::McProbe> probes = {
+        {DVec3(1.0, 1.5, 0.0), DVec3(0, 0, 1)},    // the floor under the point light
+        {DVec3(0.5, 0.5, 0.0), DVec3(0, 0, 1)},    // the floor in a corner
+        {DVec3(3.6, 1.4, 0.0), DVec3(0, 0, 1)},    // the floor in the block's shadow from the point light
+        {DVec3(2.8, 2.4, 0.0), DVec3(0, 0, 1)},    // the floor at the spot's fall-off
+        {DVec3(2.8, 1.4, 0.8), DVec3(0, 0, 1)},    // the block's top, in the beam
+        {DVec3(2.4, 1.4, 0.4), DVec3(-1, 0, 0)},   // its side facing the point light
+        {DVec3(3.2, 1.4, 0.4), DVec3(1, 0, 0)},    // its side facing away
+        {DVec3(0.0, 1.5, 1.2), DVec3(1, 0, 0)},    // the wall beside the point light
+        {DVec3(4.0, 1.5, 1.2), DVec3(-1, 0, 0)},   // the far wall
+        {DVec3(2.0, 3.0, 1.0), DVec3(0, -1, 0)},   // the back wall
+        {DVec3(1.0, 1.5, 2.5), DVec3(0, 0, -1)},   // the ceiling right above the point light
+        {DVec3(3.5, 2.5, 2.5), DVec3(0, 0, -1)}};  // the ceiling in a corner
+    reference::McOptions mc;
+    mc.samples = 16384;
+    mc.threads = 2;
+    const std::vector<reference::McProbeResult> expected = reference::estimateProbes(reference::McBvh(scene), probes, mc);
+
+    Diagnostics diagnostics;
+    const std::optional<Solution> solution = solve(scene, SolverOptions::forQuality(Quality::High), diagnostics);
+    REQUIRE(solution.has_value());
+    const ReadoutOptions readout = ReadoutOptions::forQuality(Quality::High);
+    for (size_t i = 0; i < probes.size(); ++i) {
+        CAPTURE(i);
+        const DVec3 h = probeIrradiance(*solution, readout, probes[i].position, probes[i].normal);
+        MESSAGE("probe " << i << ": radbake " << h.x << " " << h.z << ", reference " << expected[i].irradiance.x
+                         << " " << expected[i].irradiance.z << " +- " << expected[i].standard_error.x);
+        for (int c = 0; c < 3; ++c) {
+            const double mean = expected[i].irradiance[c], se = expected[i].standard_error[c];
+            REQUIRE(mean > 0.0);
+            CHECK(se < 0.02 * mean);
+            CHECK(std::abs(h[c] - mean) <= 4.0 * se + 0.03 * mean);
+        }
+    }
+}
+
+TEST_CASE("radbake reads the scoped one-bounce floor as the reference and the form factor do") {
+    // The floor case above, solved by radbake: rho E F above the floor when the sun's scope
+    // holds it, nothing when it does not (a probe is lit by every light, but this one faces
+    // away from the sun).
+    Scene scene;
+    const uint32_t grey = addMaterial(scene, Vec3(0.5f), Vec3(0.0f));
+    addQuad(scene, grey, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
+    addQuad(scene, grey, {5, 5, 1}, {6, 5, 1}, {6, 6, 1}, {5, 6, 1});
+    Light sun = directionalLight(Vec3(0, 0, -1), 2.0f);
+    sun.scoped = true;
+    sun.scope = {0};
+    scene.lights.push_back(sun);
+    const double exact = 0.5 * 2.0 * 4.0 * cornerFormFactor(1.0, 1.0, 0.5);
+    const auto radbakeAbove = [](const Scene& s) {
+        Diagnostics diagnostics;
+        const std::optional<Solution> solution = solve(s, SolverOptions::forQuality(Quality::High), diagnostics);
+        REQUIRE(solution.has_value());
+        return probeIrradiance(*solution, ReadoutOptions::forQuality(Quality::High), DVec3(0, 0, 0.5), DVec3(0, 0, -1)).x;
+    };
+    CHECK(radbakeAbove(scene) == doctest::Approx(exact).epsilon(1e-3));
+    scene.lights[0].scope = {1};
+    CHECK(radbakeAbove(scene) == 0.0);
 }
