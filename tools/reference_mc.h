@@ -96,21 +96,21 @@ struct McLight {
 inline std::vector<McLight> readLights(const Scene& scene) {
     std::vector<McLight> lights;
     for (const Light& light : scene.lights) {
-        McLight l;
-        l.strength = glm::max(DVec3(light.color), DVec3(0.0)) * std::max(0.0, double(light.intensity));
+        McLight mc;
+        mc.strength = glm::max(DVec3(light.color), DVec3(0.0)) * std::max(0.0, double(light.intensity));
         const double axis_length = glm::length(DVec3(light.direction));
         const bool aimed = light.type == LightType::Point || (axis_length > 0.0 && std::isfinite(axis_length));
-        if (!light.on || !aimed || !(std::max(l.strength.x, std::max(l.strength.y, l.strength.z)) > 0.0)) continue;
-        l.type = light.type;
-        l.position = DVec3(light.position);
-        if (light.type != LightType::Point) l.axis = DVec3(light.direction) / axis_length;
-        l.attenuation = DVec3(light.attenuation);
-        l.radius = light.radius;
-        l.beam_width = light.beam_width;
-        l.cut_off_angle = light.cut_off_angle;
-        l.scoped = light.scoped;
-        l.scope = light.scope;
-        lights.push_back(std::move(l));
+        if (!light.on || !aimed || !(std::max(mc.strength.x, std::max(mc.strength.y, mc.strength.z)) > 0.0)) continue;
+        mc.type = light.type;
+        mc.position = DVec3(light.position);
+        if (light.type != LightType::Point) mc.axis = DVec3(light.direction) / axis_length;
+        mc.attenuation = DVec3(light.attenuation);
+        mc.radius = light.radius;
+        mc.beam_width = light.beam_width;
+        mc.cut_off_angle = light.cut_off_angle;
+        mc.scoped = light.scoped;
+        mc.scope = light.scope;
+        lights.push_back(std::move(mc));
     }
     return lights;
 }
