@@ -3,13 +3,14 @@
 //   reference_mc SCENE PROBES [--samples N] [--seed S] [--threads T] [--unit-scale U]
 //                [--emission-scale E] [--no-nee] [-o OUT.csv]
 //
-// --no-nee: pure path tracing (emission counted only where paths hit it) instead of the
-// default next-event estimation; both are unbiased, the default is far less noisy.
+// --no-nee: pure path tracing (emission counted only where paths hit it; punctual lights,
+// which no path can hit, are still sampled at every vertex) instead of the default next-event
+// estimation; both are unbiased, the default is far less noisy.
 //
 // Prints (or writes) a CSV like `radbake bake --probes` writes (x,y,z,nx,ny,nz,r,g,b: H in
 // W/m^2) with three more columns, se_r,se_g,se_b: the standard error of each estimate. The
-// estimator and its assumptions (area emitters only, punctual lights ignored, one-sided
-// surfaces) are described in tools/reference_mc.h.
+// estimator and its assumptions (area emitters and punctual lights, material reflectance only,
+// one- and two-sided surfaces) are described in tools/reference_mc.h.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -61,10 +62,6 @@ int main(int argc, char** argv) {
     if (!scene) return 1;
     const std::optional<std::vector<Probe>> probes = readProbes(probes_path, diagnostics);
     if (!probes) return 1;
-    if (!scene->lights.empty())
-        std::fprintf(stderr, "reference_mc: note: %zu punctual light(s) ignored (area emitters only)\n",
-                     scene->lights.size());
-
     const auto start = std::chrono::steady_clock::now();
     const reference::McBvh bvh(*scene);
     std::vector<reference::McProbe> points;
@@ -97,8 +94,10 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
-    std::fprintf(stderr, "reference_mc: %zu probes, %d paths each (%s), %zu triangles, %llu rays, %.3f s\n",
-                 results.size(), options.samples, options.next_event ? "next-event estimation" : "pure path tracing", bvh.triangles().size(), static_cast<unsigned long long>(rays),
-                 seconds);
+    std::fprintf(stderr,
+                 "reference_mc: %zu probes, %d paths each (%s), %zu triangles, %zu punctual lights, %llu rays, "
+                 "%.3f s\n",
+                 results.size(), options.samples, options.next_event ? "next-event estimation" : "pure path tracing",
+                 bvh.triangles().size(), bvh.lights().size(), static_cast<unsigned long long>(rays), seconds);
     return 0;
 }

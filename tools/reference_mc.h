@@ -25,8 +25,18 @@
 // cut. Back faces are black and absorb (patches are one-sided, as in the solver), except on
 // two-sided meshes (Mesh::solid false, scene/two_sided.h), which reflect and emit alike on both
 // sides: a hit from behind sees the face with its normal flipped. Back twins (Mesh::back) are
-// skipped, their front stands for both sides. The background is black. Punctual lights (Point/Spot/Directional) are IGNORED: the reference
-// covers area emitters only. Per-face/per-vertex colours are ignored (material rho only).
+// skipped, their front stands for both sides. The background is black. Per-face/per-vertex
+// colours and textures are ignored (material rho only).
+//
+// Punctual lights (VRML PointLight, SpotLight, DirectionalLight; Scene::lights), in both
+// estimators: at every path vertex x_k, each light's irradiance H_l(x_k) on the side x_k's
+// normal faces, with one shadow segment, is added times the throughput (so a bounce vertex
+// adds its rho times H_l, as the emitter samples do). A delta light cannot be hit by a path, so
+// this is its only estimator and needs no MIS weight. Their meaning is radbake's
+// (src/radiosity/punctual_lights.h), implemented here on its own: Point and Spot
+// H = I cos / d^2 / max(a0 + a1 d + a2 d^2, 1), none beyond `radius`, a spot's factor linear
+// in the angle from its beam width to its cut-off; Directional H = E cos. A scoped light lights
+// only the meshes of its scope directly; probes (no mesh) are lit by every light.
 //
 // Determinism: the random stream of probe i depends only on (seed, i), so results are
 // identical for any thread count.
@@ -51,6 +61,7 @@ struct McTriangle {
     DVec3 reflectance{0.0};
     DVec3 emission{0.0};  // radiance L_e
     bool two_sided = false;  // both faces reflect and emit
+    uint32_t mesh = 0;       // index into Scene::meshes (a scoped light lights only some meshes)
 };
 
 // The normal of the face of `tri` that a ray along `dir` meets, and the cosine there (> 0),
@@ -66,12 +77,52 @@ struct McHit {
     uint32_t triangle = 0;
 };
 
-// Median-split BVH (centroid median on the longest axis, <= 4 triangles a leaf). Simple
-// rather than SAH-optimal: the reference is run offline on scenes of up to ~1e5 triangles.
+// A punctual light as the reference reads it. The meaning is the one
+// src/radiosity/punctual_lights.h documents; this is a separate implementation of it, so that
+// a slip in either shows as a disagreement.
+struct McLight {
+    LightType type = LightType::Point;
+    DVec3 position{0.0};
+    DVec3 axis{0.0, 0.0, -1.0};  // unit: where a spot points, where directional light travels
+    DVec3 strength{0.0};         // point and spot: radiant intensity I, W/sr; directional: E, W/m^2
+    DVec3 attenuation{1.0, 0.0, 0.0};
+    double radius = 0.0;
+    double beam_width = 0.0, cut_off_angle = 0.0;
+    bool scoped = false;
+    std::vector<uint32_t> scope;  // sorted indices into Scene::meshes, when scoped
+};
+
+// The lights that shine: those switched off, black, or without a direction are left out.
+inline std::vector<McLight> readLights(const Scene& scene) {
+    std::vector<McLight> lights;
+    for (const Light& light : scene.lights) {
+        McLight mc;
+        mc.strength = glm::max(DVec3(light.color), DVec3(0.0)) * std::max(0.0, double(light.intensity));
+        const double axis_length = glm::length(DVec3(light.direction));
+        const bool aimed = light.type == LightType::Point || (axis_length > 0.0 && std::isfinite(axis_length));
+        if (!light.on || !aimed || !(std::max(mc.strength.x, std::max(mc.strength.y, mc.strength.z)) > 0.0)) continue;
+        mc.type = light.type;
+        mc.position = DVec3(light.position);
+        if (light.type != LightType::Point) mc.axis = DVec3(light.direction) / axis_length;
+        mc.attenuation = DVec3(light.attenuation);
+        mc.radius = light.radius;
+        mc.beam_width = light.beam_width;
+        mc.cut_off_angle = light.cut_off_angle;
+        mc.scoped = light.scoped;
+        mc.scope = light.scope;
+        lights.push_back(std::move(mc));
+    }
+    return lights;
+}
+
+// The scene as the reference sees it: its triangles in a median-split BVH (centroid median on
+// the longest axis, <= 4 triangles a leaf; simple rather than SAH-optimal: the reference is run
+// offline on scenes of up to ~1e5 triangles), and its punctual lights.
 class McBvh {
 public:
     explicit McBvh(const Scene& scene) {
-        for (const Mesh& mesh : scene.meshes) {
+        for (uint32_t mesh_index = 0; mesh_index < scene.meshes.size(); ++mesh_index) {
+            const Mesh& mesh = scene.meshes[mesh_index];
             if (mesh.back) continue;  // its front is two-sided
             const Material* material = mesh.material < scene.materials.size() ? &scene.materials[mesh.material] : nullptr;
             for (const UVec3& tri : mesh.triangles) {
@@ -87,6 +138,7 @@ public:
                 t.e2 = c - a;
                 t.normal = cross / length;
                 t.two_sided = !mesh.solid;
+                t.mesh = mesh_index;
                 if (material) {
                     t.reflectance = DVec3(material->reflectance);
                     t.emission = DVec3(material->emission);
@@ -102,12 +154,14 @@ public:
             }
         }
         extent_ = triangles_.empty() ? 0.0 : glm::length(hi - lo);
+        lights_ = readLights(scene);
         order_.resize(triangles_.size());
         for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
         if (!triangles_.empty()) build(0, static_cast<uint32_t>(order_.size()));
     }
 
     const std::vector<McTriangle>& triangles() const { return triangles_; }
+    const std::vector<McLight>& lights() const { return lights_; }
     double extent() const { return extent_; }
     // How far a path's origin is pushed off the surface it leaves, along that surface's
     // normal: 1e-6 x the scene's diagonal, 16x the float rounding of stored vertices (~6e-8
@@ -248,6 +302,7 @@ private:
     }
 
     std::vector<McTriangle> triangles_;
+    std::vector<McLight> lights_;
     std::vector<uint32_t> order_;
     std::vector<Node> nodes_;
     double extent_ = 0.0;
@@ -352,16 +407,80 @@ inline DVec3 sampleDirect(const McBvh& bvh, const McEmitters& emitters, const DV
     return light.emission * (cos_x / (p_light + p_cosine));
 }
 
+// VRML97's spot factor at `angle` (radians) from the axis: 1 within the beam, 0 from the
+// cut-off out, linear in the angle between; a beam wider than the cut-off ends at the cut-off.
+inline double spotWeight(double angle, double beam_width, double cut_off_angle) {
+    if (!(angle < cut_off_angle)) return 0.0;
+    const double inner = std::min(beam_width, cut_off_angle);
+    return angle <= inner ? 1.0 : (cut_off_angle - angle) / (cut_off_angle - inner);
+}
+
+// VRML97's attenuation 1 / max(a0 + a1 d + a2 d^2, 1), on top of the inverse-square law.
+inline double distanceWeight(const DVec3& a, double d) { return 1.0 / std::max(1.0, a.x + d * (a.y + d * a.z)); }
+
+// True when nothing lies on the ray from x along unit w before t_max (skipping `skip`).
+inline bool segmentClear(const McBvh& bvh, const DVec3& x, const DVec3& w, double t_max, uint32_t skip,
+                         uint64_t& rays) {
+    ++rays;
+    McHit hit;
+    return !bvh.closestHit(x, w, 0.0, t_max, skip, hit);
+}
+
+// Irradiance at x (unit normal n) from one punctual light, with its shadow segment: exact,
+// since a delta light has no area to sample.
+inline DVec3 lightDirect(const McBvh& bvh, const McLight& light, const DVec3& x, const DVec3& n, uint32_t skip,
+                         uint64_t& rays) {
+    if (light.type == LightType::Directional) {
+        const double cos_x = -glm::dot(n, light.axis);
+        if (!(cos_x > 0.0)) return DVec3(0.0);
+        const bool lit = segmentClear(bvh, x, -light.axis, std::numeric_limits<double>::infinity(), skip, rays);
+        return lit ? light.strength * cos_x : DVec3(0.0);
+    }
+    const DVec3 to = light.position - x;
+    const double d = glm::length(to);
+    if (!(d > 0.0) || d > light.radius) return DVec3(0.0);
+    const DVec3 w = to / d;
+    const double cos_x = glm::dot(n, w);
+    if (!(cos_x > 0.0)) return DVec3(0.0);
+    const double spot = light.type != LightType::Spot
+                            ? 1.0
+                            : spotWeight(std::acos(std::clamp(-glm::dot(w, light.axis), -1.0, 1.0)),
+                                         light.beam_width, light.cut_off_angle);
+    if (!(spot > 0.0)) return DVec3(0.0);
+    // Stops short of the light by the offset, as the emitter samples do.
+    const double eps = bvh.epsilon();
+    if (d > 2.0 * eps && !segmentClear(bvh, x, w, d - eps, skip, rays)) return DVec3(0.0);
+    return light.strength * (cos_x * spot * distanceWeight(light.attenuation, d) / (d * d));
+}
+
+// "No mesh" for a receiver: a probe has no place in the scene graph, so every light lights it.
+inline constexpr uint32_t kMcAnyMesh = std::numeric_limits<uint32_t>::max();
+
+// Direct irradiance at x on `mesh` from every punctual light that lights that mesh.
+inline DVec3 punctualDirect(const McBvh& bvh, const DVec3& x, const DVec3& n, uint32_t skip, uint32_t mesh,
+                            uint64_t& rays) {
+    DVec3 sum(0.0);
+    for (const McLight& light : bvh.lights()) {
+        const bool in_scope = mesh == kMcAnyMesh || !light.scoped ||
+                              std::binary_search(light.scope.begin(), light.scope.end(), mesh);
+        if (in_scope) sum += lightDirect(bvh, light, x, n, skip, rays);
+    }
+    return sum;
+}
+
 // One path's estimate of H at (p, n), with next-event estimation and MIS.
 inline DVec3 tracePathNee(const McBvh& bvh, const McEmitters& emitters, const DVec3& p, const DVec3& n,
                           McRandom& random, int max_bounces, uint64_t& rays) {
     const double eps = bvh.epsilon();
     DVec3 origin = p + n * eps, normal = n;
-    uint32_t skip = std::numeric_limits<uint32_t>::max();
+    uint32_t skip = std::numeric_limits<uint32_t>::max(), mesh = kMcAnyMesh;
     DVec3 throughput(1.0), sum(0.0);
-    if (emitters.empty()) return sum;
+    if (emitters.empty() && bvh.lights().empty()) return sum;
     for (int bounce = 0; bounce <= max_bounces; ++bounce) {
-        sum += throughput * sampleDirect(bvh, emitters, origin, normal, skip, random, rays);
+        // The vertex's direct irradiance; times the throughput, which holds this vertex's rho,
+        // that is its share of the radiance reflected back along the path.
+        if (!emitters.empty()) sum += throughput * sampleDirect(bvh, emitters, origin, normal, skip, random, rays);
+        sum += throughput * punctualDirect(bvh, origin, normal, skip, mesh, rays);
         McHit hit;
         ++rays;
         const DVec3 dir = cosineDirection(normal, random);
@@ -379,6 +498,7 @@ inline DVec3 tracePathNee(const McBvh& bvh, const McEmitters& emitters, const DV
         origin = origin + dir * hit.t + hit_normal * eps;
         normal = hit_normal;
         skip = hit.triangle;
+        mesh = tri.mesh;
     }
     return sum;
 }
@@ -390,7 +510,9 @@ inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRando
     DVec3 origin = p + n * eps;
     DVec3 dir = cosineDirection(n, random);
     uint32_t skip = std::numeric_limits<uint32_t>::max();
-    DVec3 throughput(1.0), sum(0.0);
+    DVec3 throughput(1.0);
+    // Punctual lights cannot be hit by chance: they are always light-sampled, here too.
+    DVec3 sum = punctualDirect(bvh, origin, n, skip, kMcAnyMesh, rays);
     for (int bounce = 0; bounce <= max_bounces; ++bounce) {
         McHit hit;
         ++rays;
@@ -404,6 +526,7 @@ inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRando
         throughput *= tri.reflectance / q;
         origin = origin + dir * hit.t + hit_normal * eps;
         skip = hit.triangle;
+        sum += throughput * punctualDirect(bvh, origin, hit_normal, skip, tri.mesh, rays);
         dir = cosineDirection(hit_normal, random);
     }
     return sum;

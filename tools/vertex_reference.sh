@@ -15,7 +15,7 @@
 # Then score a bake made on the same probe file:
 #   build/src/radbake bake SCENE --probes OUTDIR/vertices.probes --no-lightmaps -o BAKE
 #   python3 tools/vertex_error.py BAKE OUTDIR/reference.csv --probes OUTDIR/vertices.probes
-# reference_mc ignores punctual lights and treats every surface as one-sided (its header).
+# reference_mc takes material reflectances only: no textures, no colours per face or vertex (its header).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 usage() { sed -n '4,5p' "$0" | sed 's/^# *//' >&2; exit 2; }
