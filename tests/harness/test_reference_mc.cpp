@@ -12,6 +12,7 @@
 
 #include "export/probes.h"
 #include "io/import.h"
+#include "mc_test_support.h"
 #include "reference_mc.h"
 #include "readout/evaluate_probe.h"
 #include "scene/two_sided.h"
@@ -217,14 +218,7 @@ TEST_CASE("reference MC is deterministic for any thread count") {
     probes.resize(8);
     reference::McOptions options;
     options.samples = 256;
-    options.threads = 1;
-    const auto one = reference::estimateProbes(bvh, probes, options);
-    options.threads = 3;
-    const auto three = reference::estimateProbes(bvh, probes, options);
-    for (size_t i = 0; i < probes.size(); ++i) {
-        CHECK(one[i].irradiance == three[i].irradiance);
-        CHECK(one[i].rays == three[i].rays);
-    }
+    const auto one = mctest::checkSameOnThreadCounts(bvh, probes, options);
     options.seed = 2;
     const auto other = reference::estimateProbes(bvh, probes, options);
     CHECK(other[0].irradiance != one[0].irradiance);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "readout/evaluate_probe.h"
+#include "mc_test_support.h"
 #include "reference_mc.h"
 #include "../radiosity/test_scenes.h"
 
@@ -242,15 +243,7 @@ TEST_CASE("reference MC punctual lights: the same answer for any thread count") 
         {DVec3(1, 0.75, 0), DVec3(0, 0, 1)}, {DVec3(0, 0.5, 0.5), DVec3(1, 0, 0)}, {DVec3(1.9, 1.5, 0.2), DVec3(0, -1, 0)}};
     reference::McOptions options;
     options.samples = 256;
-    const reference::McBvh bvh(scene);
-    options.threads = 1;
-    const auto one = reference::estimateProbes(bvh, probes, options);
-    options.threads = 3;
-    const auto three = reference::estimateProbes(bvh, probes, options);
-    for (size_t i = 0; i < probes.size(); ++i) {
-        CHECK(one[i].irradiance == three[i].irradiance);
-        CHECK(one[i].rays == three[i].rays);
-    }
+    mctest::checkSameOnThreadCounts(reference::McBvh(scene), probes, options);
 }
 
 TEST_CASE("reference MC and radbake agree on a room lit by a point light and a spot light") {
