@@ -27,24 +27,38 @@ constexpr double kSamplesPerTexel = 2.0;
 // Widest EdgeSample::span: with a tolerance, light that agrees at both ends of 8 samples (4
 // texels of edge) is taken as linear between them, as the texels' adaptive evaluation does.
 constexpr size_t kMaxEdgeSpan = 4;
-// Least-squares weights. Covered texels keep their evaluated value with weight 1; padding
-// texels are nearly free (a small pull keeps the system definite and the change minimal);
+// Least-squares weights. A covered texel's own point (where it was evaluated) keeps its value
+// with weight 1000 per unit of the texel its chart covers: the lookup there is the texel
+// itself when its centre lies on the chart, else a row (addOwnPointRows). On a chart narrower
+// than a texel the lookups along both edges and at its texels' points read the same texels,
+// and the points inside win: light read along a line where the chart meets another surface
+// says little about the area beside it. Padding texels are nearly free (a small pull keeps
+// the system definite and the change minimal);
 // an edge lookup is pulled to the light there with weight 1 and a seam's two lookups to
 // each other with weight 100, so where both cannot hold exactly (per-face light changes
 // across a smooth edge; diagonal seams through partly covered texels) the seam wins. Where
 // the padding alone can satisfy the lookups (straight chart edges, cuts), the residual is
-// about kFree / weight of the padding's change: 1e-4 relative. (1000 was no better on the
-// Cornell box and needed twice the CG steps.)
-constexpr double kCoveredPrior = 1.0;
+// about kFree / weight of the padding's change: 1e-4 relative. (A seam weight of 1000 was no
+// better on the Cornell box and needed twice the CG steps.)
+constexpr double kCoveredPrior = 1000.0;
 constexpr double kFree = 1e-4;
 // A covered texel whose centre lies outside its chart's geometry (an edge crosses it between
-// its centre and the chart) mostly serves lookups at that edge: it bends more easily.
+// its centre and the chart) mostly serves lookups at that edge: it bends more easily, as long
+// as the lookup at its own point keeps its value.
 constexpr double kPartialPrior = 1e-2;
 constexpr double kEdgeWeight = 1.0;
 constexpr double kSeamWeight = 100.0;
 // Conjugate gradient: stop when the residual falls below this fraction of the right-hand side.
 constexpr double kSolveTolerance = 1e-9;
 constexpr int kMaxIterations = 2000;
+// A padding texel's range (fitBounds) widens by this many times the light's local range over
+// the largest weight a lookup it serves gives it, that weight taken at least kLeastReach.
+constexpr double kPaddingReach = 2.0;
+constexpr double kLeastReach = 0.5;
+// Rounds of the bounded fit (solveBounded); it stops sooner once a round lowers the fit's
+// error by less than this fraction.
+constexpr int kBoundRounds = 16;
+constexpr double kBoundProgress = 1e-6;
 // Edge light below this fraction of the brightest is compared against it, not itself (the
 // texels' kDarkFloor, lightmap_adaptive.h).
 constexpr double kDarkEdge = 1e-2;
@@ -164,6 +178,7 @@ struct Row {
     int count = 0;
     double weight = 0.0;
     DVec3 target{0.0};
+    bool anchored = false;  // pulls a lookup to the light at a point (else a seam's two lookups together)
 };
 
 struct Unknowns {
@@ -218,6 +233,30 @@ double relativeGap(const DVec3& a, const DVec3& b, double floor) {
     return worst;
 }
 
+// Rows pulling the lookup at each covered unknown texel's own point to its value, for those
+// whose centre lies off their chart, weighted by the part of the texel the chart covers.
+void addOwnPointRows(const LightmapLayout& layout, const std::vector<LightmapImage>& images, Unknowns& unknowns,
+                     std::vector<Row>& rows) {
+    const size_t tapped = unknowns.texels.size();  // the rows add padding unknowns: those are not covered
+    for (size_t i = 0; i < tapped; ++i) {
+        const auto [atlas, pixel] = unknowns.texels[i];
+        const LightmapImage& image = images[atlas];
+        const LightmapChart& chart = layout.charts[unknowns.charts[i]];
+        if (image.state[pixel] != TexelState::Covered || centreOnGeometry(chart, image, pixel)) continue;
+        const int x = static_cast<int>(pixel % image.width) - chart.x, y = static_cast<int>(pixel / image.width) - chart.y;
+        DVec2 p_plane;
+        size_t face = 0;
+        const double coverage = texelCoverage(chart, x, y, p_plane, face);
+        if (!(coverage > 0.0)) continue;
+        Row row;
+        row.weight = kCoveredPrior * std::min(coverage, 1.0);
+        row.target = DVec3(image.rgb[3 * pixel], image.rgb[3 * pixel + 1], image.rgb[3 * pixel + 2]);
+        row.anchored = true;
+        addStencil(image, atlas, unknowns.charts[i], chart.atlasTexel(p_plane), 1.0, unknowns, row);
+        rows.push_back(row);
+    }
+}
+
 // Unknowns coupled through rows (a connected component of the fit), with their rows; in
 // order of their smallest unknown, each listing its own in increasing order.
 struct Coupled {
@@ -262,9 +301,10 @@ void setEdgeSpans(std::vector<EdgeSample>& edges, size_t run) {
     }
 }
 
-// Preconditioned (Jacobi) conjugate gradient on (P + sum w c c^T) delta = rhs, matrix-free.
-int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& rhs,
-                 std::vector<double>& delta) {
+// Preconditioned (Jacobi) conjugate gradient on (P + sum w c c^T) delta = rhs, matrix-free,
+// for the unknowns not `held` (their delta stays 0).
+int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<uint8_t>& held,
+                 const std::vector<double>& rhs, std::vector<double>& delta) {
     const size_t n = prior.size();
     std::vector<double> diagonal = prior;
     for (const Row& row : rows)
@@ -277,6 +317,8 @@ int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior,
             dot *= row.weight;
             for (int k = 0; k < row.count; ++k) y[row.taps[k].unknown] += row.taps[k].weight * dot;
         }
+        for (size_t i = 0; i < n; ++i)
+            if (held[i]) y[i] = 0.0;
     };
     const auto dot = [n](const std::vector<double>& a, const std::vector<double>& b) {
         double s = 0.0;
@@ -285,7 +327,9 @@ int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior,
     };
     delta.assign(n, 0.0);
     std::vector<double> r = rhs, z(n), p(n), ap(n);
-    const double stop = kSolveTolerance * kSolveTolerance * dot(rhs, rhs);
+    for (size_t i = 0; i < n; ++i)
+        if (held[i]) r[i] = 0.0;
+    const double stop = kSolveTolerance * kSolveTolerance * dot(r, r);
     for (size_t i = 0; i < n; ++i) z[i] = r[i] / diagonal[i];
     p = z;
     double rz = dot(r, z);
@@ -307,6 +351,130 @@ int solveChannel(const std::vector<Row>& rows, const std::vector<double>& prior,
         for (size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
     }
     return iteration;
+}
+
+// Where a texel may go in the fit, per channel. A covered texel stays between its own value
+// and the light at the points whose lookups read it: on a chart narrower than a texel, two
+// edges a fraction of a texel apart ask for any gradient, and an unbounded fit runs their
+// texels far past every read-out (and the padding below 0). A padding texel extrapolates the
+// light past the chart's edge, so its range (its own value, the light it serves, the texels it
+// is read with) widens on each side by kPaddingReach widths over the largest weight w it has
+// in those lookups: a lookup reading it with weight w needs it (1 - w) / w widths past that
+// range, more where padding texels share a corner. Light is never negative.
+struct Bounds {
+    std::vector<double> lo, hi;
+};
+
+Bounds fitBounds(const std::vector<Row>& rows, const std::vector<double>& x0, const std::vector<uint8_t>& covered,
+                 int channel) {
+    Bounds b{x0, x0};
+    std::vector<double> reach(x0.size(), 0.0);
+    for (const Row& row : rows) {
+        if (!row.anchored) continue;
+        const double target = row.target[channel];
+        double lo = target, hi = target;
+        for (int k = 0; k < row.count; ++k) {
+            lo = std::min(lo, x0[row.taps[k].unknown]);
+            hi = std::max(hi, x0[row.taps[k].unknown]);
+        }
+        for (int k = 0; k < row.count; ++k) {
+            const uint32_t i = row.taps[k].unknown;
+            if (!(row.taps[k].weight > 0.0)) continue;
+            b.lo[i] = std::min(b.lo[i], covered[i] ? target : lo);
+            b.hi[i] = std::max(b.hi[i], covered[i] ? target : hi);
+            reach[i] = std::max(reach[i], row.taps[k].weight);
+        }
+    }
+    for (size_t i = 0; i < x0.size(); ++i) {
+        const double widen = covered[i] ? 0.0 : kPaddingReach * (b.hi[i] - b.lo[i]) / std::max(reach[i], kLeastReach);
+        b.lo[i] = std::max(b.lo[i] - widen, 0.0);
+        b.hi[i] = std::max(b.hi[i] + widen, b.lo[i]);
+    }
+    return b;
+}
+
+// The fit's error at x (what solveChannel minimises from there) and minus its gradient: where
+// the fit pulls each unknown.
+double fitError(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& x0,
+                const std::vector<double>& x, int channel) {
+    double error = 0.0;
+    for (size_t i = 0; i < x.size(); ++i) error += prior[i] * (x[i] - x0[i]) * (x[i] - x0[i]);
+    for (const Row& row : rows) {
+        double residual = row.target[channel];
+        for (int k = 0; k < row.count; ++k) residual -= row.taps[k].weight * x[row.taps[k].unknown];
+        error += row.weight * residual * residual;
+    }
+    return 0.5 * error;
+}
+
+std::vector<double> fitPull(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& x0,
+                            const std::vector<double>& x, int channel) {
+    std::vector<double> pull(x.size());
+    for (size_t i = 0; i < x.size(); ++i) pull[i] = prior[i] * (x0[i] - x[i]);
+    for (const Row& row : rows) {
+        double residual = row.target[channel];
+        for (int k = 0; k < row.count; ++k) residual -= row.taps[k].weight * x[row.taps[k].unknown];
+        for (int k = 0; k < row.count; ++k) pull[row.taps[k].unknown] += row.weight * row.taps[k].weight * residual;
+    }
+    return pull;
+}
+
+// Unknowns at a bound that the fit pulls past it.
+std::vector<uint8_t> heldAtBounds(const std::vector<double>& x, const std::vector<double>& pull, const Bounds& bounds) {
+    std::vector<uint8_t> held(x.size());
+    for (size_t i = 0; i < x.size(); ++i)
+        held[i] = (x[i] >= bounds.hi[i] && pull[i] > 0.0) || (x[i] <= bounds.lo[i] && pull[i] < 0.0);
+    return held;
+}
+
+// From x towards x + delta within the bounds: the step clamped to them, halved while that does
+// not lower the fit's error, else as far as every unknown stays in range (the error falls
+// along delta). Sets `clamped` when the step taken was clamped or shortened.
+std::vector<double> boundedStep(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& x0,
+                                const std::vector<double>& x, const std::vector<double>& delta, const Bounds& bounds,
+                                int channel, bool& clamped) {
+    const size_t n = x.size();
+    const double before = fitError(rows, prior, x0, x, channel);
+    std::vector<double> trial(n);
+    for (double step = 1.0; step > 0.1; step *= 0.5) {
+        clamped = step < 1.0;
+        for (size_t i = 0; i < n; ++i) {
+            trial[i] = std::clamp(x[i] + step * delta[i], bounds.lo[i], bounds.hi[i]);
+            clamped = clamped || trial[i] != x[i] + step * delta[i];
+        }
+        if (fitError(rows, prior, x0, trial, channel) <= before) return trial;
+    }
+    double step = 1.0;
+    for (size_t i = 0; i < n; ++i) {
+        if (delta[i] > 0.0) step = std::min(step, (bounds.hi[i] - x[i]) / delta[i]);
+        if (delta[i] < 0.0) step = std::min(step, (bounds.lo[i] - x[i]) / delta[i]);
+    }
+    clamped = true;
+    for (size_t i = 0; i < n; ++i) trial[i] = std::clamp(x[i] + std::max(step, 0.0) * delta[i], bounds.lo[i], bounds.hi[i]);
+    return trial;
+}
+
+// The least-squares fit of one channel within its bounds, from x0 (in range): gradient
+// projection with the conjugate gradient on the unknowns not held (Moré and Toraldo 1991).
+// Each round holds the unknowns at a bound that the fit pulls past it, solves for the rest and
+// steps within the bounds; it stops when a whole step holds the same unknowns, when a round
+// gains under kBoundProgress, or after kBoundRounds, always in range. Returns the CG steps.
+int solveBounded(const std::vector<Row>& rows, const std::vector<double>& prior, const std::vector<double>& x0,
+                 const Bounds& bounds, int channel, std::vector<double>& x) {
+    x = x0;
+    int iterations = 0;
+    for (int round = 0; round < kBoundRounds; ++round) {
+        const std::vector<double> pull = fitPull(rows, prior, x0, x, channel);
+        const std::vector<uint8_t> held = heldAtBounds(x, pull, bounds);
+        std::vector<double> delta;
+        iterations += solveChannel(rows, prior, held, pull, delta);
+        const double before = fitError(rows, prior, x0, x, channel);
+        bool clamped = false;
+        x = boundedStep(rows, prior, x0, x, delta, bounds, channel, clamped);
+        if (!(before - fitError(rows, prior, x0, x, channel) > kBoundProgress * before)) break;
+        if (!clamped && heldAtBounds(x, fitPull(rows, prior, x0, x, channel), bounds) == held) break;
+    }
+    return iterations;
 }
 
 }  // namespace
@@ -475,6 +643,7 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
         Row row;
         row.weight = kEdgeWeight;
         row.target = target;
+        row.anchored = true;
         addStencil(imageOf(e), atlasOf(e), e.chart, e.texel, 1.0, unknowns, row);
         rows.push_back(row);
     };
@@ -496,6 +665,7 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
         addStencil(imageOf(s.b), atlasOf(s.b), s.b.chart, s.b.texel, -1.0, unknowns, row);
         rows.push_back(row);
     }
+    addOwnPointRows(layout, lightmaps.images, unknowns, rows);
     const size_t n = unknowns.texels.size();
     stats.texels = n;
     std::vector<double> prior(n);
@@ -526,28 +696,27 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
             local_rows.push_back(row);
         }
         std::vector<double> local_prior(m);
-        for (size_t i = 0; i < m; ++i) local_prior[i] = prior[group.unknowns[i]];
+        std::vector<uint8_t> covered(m);
+        for (size_t i = 0; i < m; ++i) {
+            const auto [atlas, pixel] = unknowns.texels[group.unknowns[i]];
+            local_prior[i] = prior[group.unknowns[i]];
+            covered[i] = lightmaps.images[atlas].state[pixel] == TexelState::Covered;
+        }
         for (int c = 0; c < 3; ++c) {
-            std::vector<double> x0(m), rhs(m, 0.0), delta;
+            std::vector<double> x0(m), x;
             for (size_t i = 0; i < m; ++i) {
                 const auto [atlas, pixel] = unknowns.texels[group.unknowns[i]];
                 x0[i] = lightmaps.images[atlas].rgb[3 * pixel + c];
             }
-            for (const Row& row : local_rows) {
-                double residual = row.target[c];
-                for (int k = 0; k < row.count; ++k) residual -= row.taps[k].weight * x0[row.taps[k].unknown];
-                for (int k = 0; k < row.count; ++k) rhs[row.taps[k].unknown] += row.weight * row.taps[k].weight * residual;
-            }
-            group_iterations[g] += solveChannel(local_rows, local_prior, rhs, delta);
-            for (size_t i = 0; i < m; ++i) solved[group.unknowns[i]][c] = x0[i] + delta[i];
+            group_iterations[g] += solveBounded(local_rows, local_prior, x0, fitBounds(local_rows, x0, covered, c), c, x);
+            for (size_t i = 0; i < m; ++i) solved[group.unknowns[i]][c] = x[i];
         }
     });
     for (const int i : group_iterations) stats.iterations += i;
     for (size_t i = 0; i < n; ++i) {
         const auto [atlas, pixel] = unknowns.texels[i];
         LightmapImage& image = lightmaps.images[atlas];
-        // Light is never negative; a steep fall at an edge could extrapolate the padding below 0.
-        for (int c = 0; c < 3; ++c) image.rgb[3 * pixel + c] = static_cast<float>(std::max(solved[i][c], 0.0));
+        for (int c = 0; c < 3; ++c) image.rgb[3 * pixel + c] = static_cast<float>(solved[i][c]);
         if (image.state[pixel] == TexelState::Empty) image.state[pixel] = TexelState::Dilated;
     }
 

@@ -6,7 +6,10 @@
 // angle) disagree. stitchLightmaps fits the texels under those lookups, by least squares, so
 // that the lookup at every sampled edge point gives the light there (the vertex bake's value
 // at a vertex) and both sides of a seam give the same light, while covered texels stay close
-// to their evaluated values and only the padding moves freely.
+// to their evaluated values and only the padding moves freely. No texel leaves the light around
+// it: a covered one stays between its value and the light at the points whose lookups read it,
+// the padding within a few times that range (a chart narrower than a texel puts two edges with
+// different light a fraction of a texel apart, and an unbounded fit runs its texels to any value).
 #include <cstdint>
 #include <vector>
 
