@@ -197,6 +197,7 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOp
     if (progress) progress->update(kTexelShare);
     if (options.stitch_seams) stitchLightmaps(scene, lightmaps, irradiance, options.padding, runner, options.texel_tolerance);
     if (progress) progress->update(1.0);
+    if (links) lightmaps.work = links->work();
     return !runner.cancelled();
 }
 

@@ -12,6 +12,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "readout/evaluate_probe.h"
 #include "readout/readout_options.h"
 
 namespace radbake {
@@ -48,6 +49,7 @@ struct Lightmaps {
     size_t interpolated_texels = 0;  // covered texels interpolated (LightmapOptions::texel_tolerance)
     size_t required_texels = 0;      // texels evaluated whatever the light (chart edges; 0 at tolerance 0)
     StitchStats stitch;
+    ReadoutWork work;   // of the link read-out, seam fit included (none with the exhaustive gather)
 };
 
 // A point on one of the scene's triangles, seen from the side its normal faces.

@@ -88,6 +88,15 @@ std::string formatStatsJson(const BakeReport& r) {
         out["texel_tolerance"] = l.texel_tolerance;
         out["occupancy"] = l.occupancy;
     }
+    // Only when the link read-out read them (not the exhaustive gather).
+    const auto readout = [&](const char* name, const ReadoutReport& w) {
+        if (w.points == 0) return;
+        out[std::string(name) + "_reads"] = w.points;
+        out[std::string(name) + "_rays"] = w.rays;
+        out[std::string(name) + "_form_factors"] = w.form_factors;
+    };
+    readout("vertex", r.vertex_readout);
+    readout("texel", r.texel_readout);
     if (r.refused_inputs > 0) out["refused_inputs"] = r.refused_inputs;  // only then, as two_sided_meshes
     out["warnings"] = r.warnings;
     return json_detail::dump(out, 2) + "\n";

@@ -29,6 +29,13 @@ struct LightmapReport {
     double occupancy = 0.0;        // chart texels (padding excluded) / atlas texels
 };
 
+// The link read-out's work (LinkReconstruction::work) at vertices and at texels (seam fit
+// included): points read and the rays and point form factors they took; zero when the exhaustive
+// gather read them (--texel-tolerance 0).
+struct ReadoutReport {
+    size_t points = 0, rays = 0, form_factors = 0;
+};
+
 struct BakeReport {
     std::string generator;  // "radbake <version>"
     std::string scene;      // path as given
@@ -48,6 +55,7 @@ struct BakeReport {
     size_t refused_inputs = 0;
     int warnings = 0;
     LightmapReport lightmaps;
+    ReadoutReport vertex_readout, texel_readout;
 };
 
 // Peak resident set size of this process so far, in MiB (getrusage).

@@ -97,6 +97,10 @@ void fillSceneReport(const Scene& scene, Bake& out) {
     report.probes = out.options.probes ? out.options.probes->size() : 0;
 }
 
+ReadoutReport readoutReport(const ReadoutWork& work) {
+    return {.points = work.points, .rays = work.counts.rays, .form_factors = work.counts.form_factors};
+}
+
 void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& options, double metres_per_unit,
                         LightmapReport& report) {
     const LightmapLayout& layout = baked.lightmaps.layout;
@@ -202,6 +206,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     if (!(options.lightmaps.texel_tolerance > 0.0)) readout.gather = GatherMode::Exhaustive;
     out.vertices = bakeVertices(scene, *out.solution, readout, runner, &progress);
     if (stopped()) return;
+    out.report.vertex_readout = readoutReport(out.vertices.work);
 
     if (charts) {
         beginPhase("lightmaps");
@@ -219,6 +224,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
             baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");
         fillLightmapReport(baked, used, metres_per_unit, out.report.lightmaps);
+        out.report.texel_readout = readoutReport(baked.lightmaps.work);
         out.lightmaps = std::move(baked);
     }
 

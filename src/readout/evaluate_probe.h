@@ -17,6 +17,12 @@ struct ProbeCounters {
     size_t pieces = 0;        // elements and sub-leaf pieces that contributed light
 };
 
+// Points read and the work they took.
+struct ReadoutWork {
+    size_t points = 0;
+    ProbeCounters counts;
+};
+
 // Irradiance H (W/m^2, DESIGN.md section 2) arriving at `point` on a surface facing `normal`
 // (unit), gathered from the solved hierarchy (point-to-polygon form factors, visibility by
 // rays) plus the direct light of punctual lights. Per channel. A point on a surface of

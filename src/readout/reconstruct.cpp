@@ -197,7 +197,7 @@ const LinkReconstruction::RootPairs& LinkReconstruction::pairsOf(uint32_t root) 
 
 // Gathers what needs no rays into g.sum (or `separable`), and lists in `pending` what does.
 void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
-                                     DVec3& separable) const {
+                                     DVec3& separable, bool every_ray) const {
     const Solution& s = s_;
     // A source whose visibility from the point is not known: its unoccluded light f B is
     // what decides whether rays are worth casting. Without them it brings f V B, V its link's
@@ -238,6 +238,12 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
             // at the point, without rays; a larger one by the solve's product form, its
             // receiver cosine taken at the point.
             const NodeMembers sm = membersOf(s, link.source);
+            // Its visibility sampled by rays between members: at a point that must see for
+            // itself, each member gets rays.
+            if (every_ray && s.rays && link.candidates != kNoList) {
+                for (uint32_t i = 0; i < sm.count; ++i) defer(s.cluster_members[sm.first + i], 1.0);
+                continue;
+            }
             if (sm.count <= kExactSeparableMembers) {
                 g.use_rays = false;
                 for (uint32_t i = 0; i < sm.count; ++i) g.visit(s.cluster_members[sm.first + i]);
@@ -320,22 +326,48 @@ uint32_t LinkReconstruction::readingLeaf(uint32_t mesh, uint32_t triangle, const
     return leaf;
 }
 
+void LinkReconstruction::tally(const ProbeCounters& c, size_t points) const {
+    points_.fetch_add(points, std::memory_order_relaxed);
+    rays_.fetch_add(c.rays, std::memory_order_relaxed);
+    form_factors_.fetch_add(c.form_factors, std::memory_order_relaxed);
+    pieces_.fetch_add(c.pieces, std::memory_order_relaxed);
+}
+
+LinkReconstruction::Work LinkReconstruction::work() const {
+    return {.points = points_.load(),
+            .counts = {.rays = rays_.load(), .form_factors = form_factors_.load(), .pieces = pieces_.load()}};
+}
+
 DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                                   ProbeCounters* counters, bool edges) const {
+                                   ProbeCounters* counters, bool edges, bool every_ray) const {
     const Solution& s = s_;
+    ProbeCounters c;
     const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
-    if (leaf == kNoElement)
-        return counters ? probeIrradianceCounted(s, o_, p_world, normal, *counters, mesh)
-                        : probeIrradiance(s, o_, p_world, normal, mesh);
-    DVec3 h = evaluateLeaf(leaf, p_world, normal, counters, edges);
-    if (s.scene && !s.scene->lights.empty())
-        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
+    DVec3 h(0.0);
+    if (leaf == kNoElement) {
+        h = probeIrradianceCounted(s, o_, p_world, normal, c, mesh);
+    } else {
+        h = evaluateLeaf(leaf, p_world, normal, &c, edges, every_ray);
+        if (s.scene && !s.scene->lights.empty())
+            h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
+    }
+    tally(c, 1);
+    if (counters) {
+        counters->rays += c.rays;
+        counters->form_factors += c.form_factors;
+        counters->pieces += c.pieces;
+    }
     return h;
 }
 
 DVec3 LinkReconstruction::irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
                                                 const DVec3& normal) const {
     return evaluate(mesh, triangle, p_world, normal, nullptr, false);
+}
+
+DVec3 LinkReconstruction::irradianceEveryRay(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                             const DVec3& normal) const {
+    return evaluate(mesh, triangle, p_world, normal, nullptr, false, true);
 }
 
 DVec3 LinkReconstruction::EdgeTerms::correction(std::span<const SideLight> beside) const {
@@ -362,9 +394,12 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTermsAt(uint32_t mesh, uin
     if (leaf == kNoElement) return {};
     const Touched touched = touchedRoots(leaf, p_world);
     if (touched.count < 2) return {};
-    return edgeTerms(leaf, p_world, p_world + gather::kLift * s_.scene_extent * touched.direction, normal, h,
-                     std::span<const uint32_t>(touched.roots.data(), touched.count), beside,
-                     o_.edge_correction == EdgeCorrection::Shared, interior, nullptr);
+    ProbeCounters c;
+    EdgeTerms terms = edgeTerms(leaf, p_world, p_world + gather::kLift * s_.scene_extent * touched.direction, normal,
+                                h, std::span<const uint32_t>(touched.roots.data(), touched.count), beside,
+                                o_.edge_correction == EdgeCorrection::Shared, interior, &c);
+    tally(c, 0);
+    return terms;
 }
 
 LinkReconstruction::Touched LinkReconstruction::touchedRoots(uint32_t leaf, const DVec3& p_world) const {
@@ -592,7 +627,7 @@ DVec3 LinkReconstruction::sectorRead(const DVec3& p_world, const DVec3& normal, 
 }
 
 DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal,
-                                       ProbeCounters* counters, bool edges) const {
+                                       ProbeCounters* counters, bool edges, bool every_ray) const {
     const Solution& s = s_;
     const double lift = gather::kLift * s.scene_extent;
     // The lift off the polygons the point touches (gather.h), among those that can light it:
@@ -606,12 +641,12 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
                        .origin = point + lift * normal,
                        .lift = lift,
                        .counters = counters,
-                       .coarse_rule = false,
+                       .coarse_rule = every_ray,
                        .link_visibility_ratio = kLinkVisibilityRatio,
                        .max_visibility_splits = kLinkVisibilitySplits};
     std::vector<PendingSource> pending;
     DVec3 separable(0.0);
-    gatherLinks(leaf, g, pending, separable);
+    gatherLinks(leaf, g, pending, separable, every_ray);
     // Rays only where they can matter: sources by decreasing unoccluded light get their
     // visibility from rays at the point until what is left could bring at most kRayShare of
     // the light known so far (what needed no rays and what rays found); those keep the
@@ -638,7 +673,8 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     for (uint32_t k = 0; k < heap.size(); ++k) heap[k] = k;
     std::make_heap(heap.begin(), heap.end(), lighter);
     std::vector<char> read(pending.size(), 0);
-    for (auto end = heap.end(); end != heap.begin() && pending_light > kRayShare * maxChannel(g.sum + separable);) {
+    const auto worth_rays = [&] { return every_ray || pending_light > kRayShare * maxChannel(g.sum + separable); };
+    for (auto end = heap.end(); end != heap.begin() && worth_rays();) {
         std::pop_heap(heap.begin(), end, lighter);
         const uint32_t k = *--end;
         read[k] = 1;

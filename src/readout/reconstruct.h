@@ -18,6 +18,7 @@
 // probeIrradiance (the exhaustive gather from every root, rays for every element) stays the
 // reference: --texel-tolerance 0 and --quality reference use it.
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -68,6 +69,10 @@ public:
         DVec3 h;       // H there: uncorrected, or as correctTogether has corrected it so far
     };
     DVec3 irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
+    // The same with the point's own visibility of every source no shaft proved (rays at the point
+    // for each, none left to its link's visibility over the leaf): where a shadow line crosses
+    // the leaf, which its links' visibility averages over.
+    DVec3 irradianceEveryRay(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     // The correction is linear in what each face beside gets at the point: per face,
     // sum over its touching leaves of w (B_mean - E - rho H_beside). Kept in that form, a
     // caller that knows every face's H at the point (the vertex bake) can solve their mutual
@@ -99,16 +104,23 @@ public:
     EdgeTerms edgeTermsAt(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
                           const DVec3& h, std::span<const SideLight> beside, const DVec3& interior = DVec3(0.0)) const;
 
+    // The work done so far by every read (irradiance, its variants and edgeTermsAt): points read,
+    // and their rays, form factors and pieces. Deterministic: each point's work is its own.
+    using Work = ReadoutWork;
+    Work work() const;
+
 private:
+    void tally(const ProbeCounters& c, size_t points) const;
     // The leaf holding the point when the point reads its links (on its front side), else
     // kNoElement (read by probeIrradiance).
     uint32_t readingLeaf(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     DVec3 evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                   ProbeCounters* counters, bool edges) const;
+                   ProbeCounters* counters, bool edges, bool every_ray = false) const;
     // The light through the links of `leaf` (no punctual lights); `edges`: with the
-    // correction where the point touches a face at a concave edge (reconstruct.cpp).
+    // correction where the point touches a face at a concave edge (reconstruct.cpp);
+    // `every_ray`: rays for every source not proven visible, not only the brightest.
     DVec3 evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal, ProbeCounters* counters,
-                       bool edges) const;
+                       bool edges, bool every_ray = false) const;
     // The roots that can touch the point (its own, its links' sources', its cluster pairs'
     // members within lift of it), at most 64, and the lift direction off them (gather.h).
     struct Touched {
@@ -157,8 +169,9 @@ private:
         std::vector<uint32_t> near;  // members (each time they occur) that can come within lift of it
     };
     const RootPairs& pairsOf(uint32_t root) const;
+    // `every_ray`: separable links whose visibility rays sampled are deferred member by member.
     void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
-                     DVec3& separable) const;
+                     DVec3& separable, bool every_ray) const;
 
     const Solution& s_;
     ReadoutOptions o_;
@@ -171,6 +184,7 @@ private:
     // Clustering (empty without cluster links).
     std::vector<size_t> cluster_begin_;     // per receiver key (roots, then clusters) + 1
     std::vector<DVec3> separable_flux_;     // per separable cluster link: sum_i s_i B_i (cluster.cpp)
+    mutable std::atomic<size_t> points_{0}, rays_{0}, form_factors_{0}, pieces_{0};
 };
 
 }  // namespace radbake

@@ -16,6 +16,7 @@ struct Solution;
 // (DESIGN.md section 2), linear, may exceed 1.
 struct VertexBake {
     std::vector<std::vector<Vec3>> values;
+    ReadoutWork work;  // of the link read-out (none with the exhaustive gather)
 };
 
 // On the runner's threads; each vertex writes its own slot, so the values do not depend on

@@ -48,6 +48,14 @@ void checkIdenticalWithOneAndTwoThreads(const std::string& scene_name) {
         CHECK_MESSAGE(a == readBytes(tmp.path / "t2" / name), name);
     }
 
+    // The read-out's work is counted where it was done (every vertex and texel read, its rays and
+    // form factors): the same counts on either thread count, as the bytes above say.
+    const nlohmann::json stats = nlohmann::json::parse(readBytes(tmp.path / "t1" / "stats.json"));
+    CHECK(stats.at("vertex_reads").get<size_t>() >= stats.at("vertices").get<size_t>() / 4);
+    CHECK(stats.at("texel_reads").get<size_t>() >=
+          stats.at("covered_texels").get<size_t>() - stats.at("interpolated_texels").get<size_t>());
+    CHECK(stats.at("texel_form_factors").get<size_t>() > stats.at("texel_reads").get<size_t>());
+
     // What does differ is in timings.json, which the manifest does not list.
     const nlohmann::json t1 = nlohmann::json::parse(readBytes(tmp.path / "t1" / "timings.json"));
     const nlohmann::json t2 = nlohmann::json::parse(readBytes(tmp.path / "t2" / "timings.json"));
