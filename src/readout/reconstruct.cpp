@@ -74,6 +74,26 @@ constexpr int kCornerSectors = 6;
 constexpr double kCornerAgreement = 0.05;
 constexpr int kLinkVisibilitySplits = 1;
 
+// Most sources a point might gather from are small and far, and most of those keep their link's
+// visibility (no rays at the point): their form factor, which orders them and weights their
+// light, is the point-to-centroid kernel A cos cos / (pi d^2) when the source's radius is below
+// this share of its distance, wholly above the point's horizon and facing it (off by about the
+// square of the ratio). The sources read with rays get their exact form factor.
+constexpr double kFarFieldRatio = 0.05;
+
+// The far-field form factor of `source` from the point, or -1 where it does not hold.
+double farFormFactor(const DVec3& point, const DVec3& normal, const Element& source,
+                     std::span<const DVec3> vertices) {
+    const DVec3 u = source.centroid - point;
+    const double d2 = glm::dot(u, u);
+    if (!(source.radius * source.radius < kFarFieldRatio * kFarFieldRatio * d2)) return -1.0;
+    for (const DVec3& v : vertices)
+        if (!(glm::dot(normal, v - point) > 0.0)) return -1.0;
+    const double cos_source = -glm::dot(source.normal, u);
+    if (!(cos_source > 0.0)) return 0.0;  // the point is behind it
+    return source.area * glm::dot(normal, u) * cos_source / (kPi * d2 * d2);
+}
+
 // The light of another face at the point, given by the caller, for a face of this normal.
 const LinkReconstruction::SideLight* sideLightOf(std::span<const LinkReconstruction::SideLight> side_light,
                                                  const DVec3& normal) {
@@ -197,7 +217,7 @@ const LinkReconstruction::RootPairs& LinkReconstruction::pairsOf(uint32_t root) 
 
 // Gathers what needs no rays into g.sum (or `separable`), and lists in `pending` what does.
 void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
-                                     DVec3& separable, bool every_ray) const {
+                                     DVec3& separable) const {
     const Solution& s = s_;
     // A source whose visibility from the point is not known: its unoccluded light f B is
     // what decides whether rays are worth casting. Without them it brings f V B, V its link's
@@ -207,10 +227,15 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
     const auto defer = [&](uint32_t source_index, double visibility) {
         const Element& source = s.elements[source_index];
         if (!(maxChannel(source.radiosity) > 0.0)) return;
-        const double f = piecePointFormFactor(g.point, g.normal, polygonOf(s, source).vertices, source.normal);
-        if (g.counters) ++g.counters->form_factors;
+        const PolygonView poly = polygonOf(s, source);
+        double exact = -1.0;
+        double f = farFormFactor(g.point, g.normal, source, poly.vertices);
+        if (f < 0.0) {
+            f = exact = piecePointFormFactor(g.point, g.normal, poly.vertices, source.normal);
+            if (g.counters) ++g.counters->form_factors;
+        }
         if (!(f > 0.0)) return;
-        pending.push_back({source_index, f, f * maxChannel(source.radiosity), f * visibility * source.radiosity,
+        pending.push_back({source_index, exact, f, f * maxChannel(source.radiosity), f * visibility * source.radiosity,
                            visibility > 0.0 && visibility < 1.0});
     };
     for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
@@ -238,12 +263,6 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
             // at the point, without rays; a larger one by the solve's product form, its
             // receiver cosine taken at the point.
             const NodeMembers sm = membersOf(s, link.source);
-            // Its visibility sampled by rays between members: at a point that must see for
-            // itself, each member gets rays.
-            if (every_ray && s.rays && link.candidates != kNoList) {
-                for (uint32_t i = 0; i < sm.count; ++i) defer(s.cluster_members[sm.first + i], 1.0);
-                continue;
-            }
             if (sm.count <= kExactSeparableMembers) {
                 g.use_rays = false;
                 for (uint32_t i = 0; i < sm.count; ++i) g.visit(s.cluster_members[sm.first + i]);
@@ -339,7 +358,7 @@ LinkReconstruction::Work LinkReconstruction::work() const {
 }
 
 DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                                   ProbeCounters* counters, bool edges, bool every_ray) const {
+                                   ProbeCounters* counters, bool edges) const {
     const Solution& s = s_;
     ProbeCounters c;
     const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
@@ -347,7 +366,7 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     if (leaf == kNoElement) {
         h = probeIrradianceCounted(s, o_, p_world, normal, c, mesh);
     } else {
-        h = evaluateLeaf(leaf, p_world, normal, &c, edges, every_ray);
+        h = evaluateLeaf(leaf, p_world, normal, &c, edges);
         if (s.scene && !s.scene->lights.empty())
             h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
     }
@@ -360,14 +379,16 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     return h;
 }
 
+DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, const DVec3& p_world, const DVec3& normal) const {
+    ProbeCounters c;
+    const DVec3 h = probeIrradianceCounted(s_, o_, p_world, normal, c, mesh);
+    tally(c, 1);
+    return h;
+}
+
 DVec3 LinkReconstruction::irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
                                                 const DVec3& normal) const {
     return evaluate(mesh, triangle, p_world, normal, nullptr, false);
-}
-
-DVec3 LinkReconstruction::irradianceEveryRay(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
-                                             const DVec3& normal) const {
-    return evaluate(mesh, triangle, p_world, normal, nullptr, false, true);
 }
 
 DVec3 LinkReconstruction::EdgeTerms::correction(std::span<const SideLight> beside) const {
@@ -627,7 +648,7 @@ DVec3 LinkReconstruction::sectorRead(const DVec3& p_world, const DVec3& normal, 
 }
 
 DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal,
-                                       ProbeCounters* counters, bool edges, bool every_ray) const {
+                                       ProbeCounters* counters, bool edges) const {
     const Solution& s = s_;
     const double lift = gather::kLift * s.scene_extent;
     // The lift off the polygons the point touches (gather.h), among those that can light it:
@@ -641,12 +662,12 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
                        .origin = point + lift * normal,
                        .lift = lift,
                        .counters = counters,
-                       .coarse_rule = every_ray,
+                       .coarse_rule = false,
                        .link_visibility_ratio = kLinkVisibilityRatio,
                        .max_visibility_splits = kLinkVisibilitySplits};
     std::vector<PendingSource> pending;
     DVec3 separable(0.0);
-    gatherLinks(leaf, g, pending, separable, every_ray);
+    gatherLinks(leaf, g, pending, separable);
     // Rays only where they can matter: sources by decreasing unoccluded light get their
     // visibility from rays at the point until what is left could bring at most kRayShare of
     // the light known so far (what needed no rays and what rays found); those keep the
@@ -673,15 +694,14 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     for (uint32_t k = 0; k < heap.size(); ++k) heap[k] = k;
     std::make_heap(heap.begin(), heap.end(), lighter);
     std::vector<char> read(pending.size(), 0);
-    const auto worth_rays = [&] { return every_ray || pending_light > kRayShare * maxChannel(g.sum + separable); };
-    for (auto end = heap.end(); end != heap.begin() && worth_rays();) {
+    for (auto end = heap.end(); end != heap.begin() && pending_light > kRayShare * maxChannel(g.sum + separable);) {
         std::pop_heap(heap.begin(), end, lighter);
         const uint32_t k = *--end;
         read[k] = 1;
         const PendingSource& p = pending[k];
         g.use_rays = true;
         g.coarse_opening = p.partial && p.light > kCoarseShare * total;
-        g.known_form_factor = p.form_factor;
+        g.known_form_factor = p.form_factor;  // -1 (computed by the visit) for a far-field estimate
         // A lamp behind a link whose rays disagreed: its penumbra is the sharpest light
         // there is. (Behind every link not proven visible, house.wrl's vertices cast 1,176
         // rays each instead of 357, for shadow.wrl's texels at 1.3 % instead of 2.0 %.)

@@ -69,10 +69,8 @@ public:
         DVec3 h;       // H there: uncorrected, or as correctTogether has corrected it so far
     };
     DVec3 irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
-    // The same with the point's own visibility of every source no shaft proved (rays at the point
-    // for each, none left to its link's visibility over the leaf): where a shadow line crosses
-    // the leaf, which its links' visibility averages over.
-    DVec3 irradianceEveryRay(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
+    // probeIrradiance (the exhaustive gather) at the point, counted in work().
+    DVec3 irradianceExhaustive(uint32_t mesh, const DVec3& p_world, const DVec3& normal) const;
     // The correction is linear in what each face beside gets at the point: per face,
     // sum over its touching leaves of w (B_mean - E - rho H_beside). Kept in that form, a
     // caller that knows every face's H at the point (the vertex bake) can solve their mutual
@@ -115,12 +113,11 @@ private:
     // kNoElement (read by probeIrradiance).
     uint32_t readingLeaf(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     DVec3 evaluate(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                   ProbeCounters* counters, bool edges, bool every_ray = false) const;
+                   ProbeCounters* counters, bool edges) const;
     // The light through the links of `leaf` (no punctual lights); `edges`: with the
-    // correction where the point touches a face at a concave edge (reconstruct.cpp);
-    // `every_ray`: rays for every source not proven visible, not only the brightest.
+    // correction where the point touches a face at a concave edge (reconstruct.cpp).
     DVec3 evaluateLeaf(uint32_t leaf, const DVec3& p_world, const DVec3& normal, ProbeCounters* counters,
-                       bool edges, bool every_ray = false) const;
+                       bool edges) const;
     // The roots that can touch the point (its own, its links' sources', its cluster pairs'
     // members within lift of it), at most 64, and the lift direction off them (gather.h).
     struct Touched {
@@ -144,7 +141,8 @@ private:
     uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;
     struct PendingSource {
         uint32_t source;  // element
-        double form_factor;  // from the point, unoccluded
+        double form_factor;  // from the point, unoccluded (< 0: not computed, as below)
+        double estimate;  // the form factor, or its far-field estimate for a small, far source
         double light;     // f B (max channel), unoccluded
         DVec3 fallback;   // its light without rays
         bool partial;     // its link's rays disagreed (0 < visibility < 1)
@@ -169,9 +167,8 @@ private:
         std::vector<uint32_t> near;  // members (each time they occur) that can come within lift of it
     };
     const RootPairs& pairsOf(uint32_t root) const;
-    // `every_ray`: separable links whose visibility rays sampled are deferred member by member.
     void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
-                     DVec3& separable, bool every_ray) const;
+                     DVec3& separable) const;
 
     const Solution& s_;
     ReadoutOptions o_;

@@ -62,10 +62,10 @@ double solvedIrradiance(const Solution& solution, uint32_t leaf) {
 // side of it: read through one face's links, a vertex beside a block took the light of a tile
 // mostly under it, and a ceiling vertex over a lamp hung just below it the light of a tile
 // reaching past the lamp's shadow (the mean over the leaves, too, read it twice its light). There
-// the vertex reads a leaf's links with its own visibility of every source no shaft proved
-// (rays at the vertex): the links of one leaf bring all of its light, each source once, so only
-// their visibility needs the point (the exhaustive gather, every root with rays, was a third of
-// a lit room's vertex time).
+// the vertex takes the exhaustive gather, which reads every root with rays at the point. (A
+// leaf's links read with rays at the vertex for every source cost a third as much, but read
+// vertices on a lit room's furniture near zero where the exhaustive gather and a path tracer
+// agree.)
 constexpr double kUnequalLeaves = 0.5;
 
 DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, const WeldedPoint& point,
@@ -73,7 +73,6 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
     std::array<uint32_t, 16> leaves{};
     size_t count = 0;
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-    const Incident* brightest = &group;
     for (const Incident& f : point.faces) {
         if (!(glm::dot(f.normal, group.normal) > 1.0 - kSameNormal)) continue;
         const uint32_t leaf = links.leafAt(f.mesh, f.triangle, point.p);
@@ -83,13 +82,11 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
         leaves[count++] = leaf;
         const double h = solvedIrradiance(solution, leaf);
         lo = std::min(lo, h);
-        if (h > hi) hi = h, brightest = &f;
+        hi = std::max(hi, h);
     }
     if (count < 2 || !(hi > 0.0) || lo >= kUnequalLeaves * hi)
         return links.irradianceUncorrected(group.mesh, group.triangle, point.p, group.normal);
-    // Through the brightest leaf: a dark one's links may be proven hidden by what touches it at
-    // the vertex (a block's foot), which hides the leaf but not its border.
-    return links.irradianceEveryRay(brightest->mesh, brightest->triangle, point.p, group.normal);
+    return links.irradianceExhaustive(group.mesh, point.p, group.normal);
 }
 
 // The direction into the group's faces at the point: the mean of the unit directions to its
