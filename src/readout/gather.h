@@ -11,6 +11,7 @@
 #include "radiosity/elements.h"
 #include "readout/evaluate_probe.h"
 #include "radiosity/form_factor.h"
+#include "radiosity/punctual_lights.h"
 #include "radiosity/refine.h"
 #include "radiosity/solution.h"
 #include "visibility/ray_caster.h"
@@ -346,6 +347,31 @@ inline DVec3 liftOffSurfaces(const Solution& solution, const DVec3& point, const
     for (uint32_t r = 0; r < solution.root_count; ++r)
         if (glm::dot(solution.elements[r].normal, normal) >= -0.99) addLiftDirection(solution, r, point, lift, direction);
     return point + lift * direction;
+}
+
+// Punctual lights' direct light at a point on triangle `triangle` of Scene::meshes[mesh]
+// (punctual_lights.h), its shadow rays cast from kPunctualLifts lifts into the triangle
+// (towards its centroid) and off it: the limit from inside the face, as a vertex's value is
+// (tools/vertex_probes nudges a vertex's probe the same way). From the point itself a ray
+// leaving through a surface the point lies on (a wall's foot on a floor, the light under the
+// floor) crosses it within the ray caster's start offset (one lift), and the light under the
+// floor reached the wall's foot, and through the edge correction the floor beside it.
+inline constexpr double kPunctualLifts = 4.0;
+inline DVec3 punctualInside(const Solution& solution, uint32_t mesh, uint32_t triangle, const DVec3& point,
+                            const DVec3& normal) {
+    const Scene* scene = solution.scene;
+    if (!scene || scene->lights.empty()) return DVec3(0.0);
+    DVec3 from = point;
+    if (mesh < scene->meshes.size() && triangle < scene->meshes[mesh].triangles.size()) {
+        const Mesh& m = scene->meshes[mesh];
+        const UVec3& t = m.triangles[triangle];
+        DVec3 inward = (DVec3(m.positions[t.x]) + DVec3(m.positions[t.y]) + DVec3(m.positions[t.z])) / 3.0 - point;
+        inward -= glm::dot(inward, normal) * normal;
+        const double length = glm::length(inward);
+        const DVec3 into = length > 0.0 ? inward / length : DVec3(0.0);
+        from = point + kPunctualLifts * kLift * solution.scene_extent * (into + normal);
+    }
+    return punctualIrradiance(scene->lights, solution.rays.get(), from, normal, nullptr, mesh);
 }
 
 }  // namespace gather

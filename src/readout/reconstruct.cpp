@@ -324,13 +324,8 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
                                    ProbeCounters* counters, bool edges) const {
     const Solution& s = s_;
     const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
-    if (leaf == kNoElement)
-        return counters ? probeIrradianceCounted(s, o_, p_world, normal, *counters, mesh)
-                        : probeIrradiance(s, o_, p_world, normal, mesh);
-    DVec3 h = evaluateLeaf(leaf, p_world, normal, counters, edges);
-    if (s.scene && !s.scene->lights.empty())
-        h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
-    return h;
+    if (leaf == kNoElement) return surfaceIrradiance(s, o_, p_world, normal, mesh, triangle, counters);
+    return evaluateLeaf(leaf, p_world, normal, counters, edges) + gather::punctualInside(s, mesh, triangle, p_world, normal);
 }
 
 DVec3 LinkReconstruction::irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world,

@@ -84,7 +84,7 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
     }
     if (count < 2 || !(hi > 0.0) || lo >= kUnequalLeaves * hi)
         return links.irradianceUncorrected(group.mesh, group.triangle, point.p, group.normal);
-    return probeIrradiance(solution, options, point.p, group.normal, group.mesh);
+    return surfaceIrradiance(solution, options, point.p, group.normal, group.mesh, group.triangle);
 }
 
 // The direction into the group's faces at the point: the mean of the unit directions to its
@@ -174,7 +174,7 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, const Read
             for (const Incident& g : point.groups)
                 point.h.push_back(!lit   ? DVec3(0.0)
                                   : links ? irradianceAt(solution, *links, options, point, g)
-                                          : probeIrradiance(solution, options, point.p, g.normal, g.mesh));
+                                          : surfaceIrradiance(solution, options, point.p, g.normal, g.mesh, g.triangle));
             if (links && options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
         }
         if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
