@@ -77,7 +77,18 @@ DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DV
                uint32_t receiver_triangle = kNoElement) {
     if (solution.elements.empty()) return DVec3(0.0);
     const double lift = gather::kLift * solution.scene_extent;
-    const DVec3 point = gather::liftOffSurfaces(solution, point_on_surface, normal, lift);
+    const Scene* scene = solution.scene;
+    const bool on_face = scene && receiver_mesh < scene->meshes.size() &&
+                         receiver_triangle < scene->meshes[receiver_mesh].triangles.size();
+    DVec3 point;
+    if (on_face) {
+        const Mesh& m = scene->meshes[receiver_mesh];
+        const UVec3& t = m.triangles[receiver_triangle];
+        point = gather::liftOffFacingSurfaces(solution, point_on_surface, normal, lift,
+                                              {DVec3(m.positions[t.x]), DVec3(m.positions[t.y]), DVec3(m.positions[t.z])});
+    } else {
+        point = gather::liftOffSurfaces(solution, point_on_surface, normal, lift);
+    }
     gather::Gatherer g{.s = solution,
                .o = options,
                .point = point,

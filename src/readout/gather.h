@@ -421,6 +421,27 @@ inline DVec3 intoPolygon(const Mesh& mesh, uint32_t t, const DVec3& normal, cons
     return d / std::max(least(d), kMinSine);
 }
 
+// liftOffSurfaces at a point of a known face (`face`: its triangle's corners, facing `normal`):
+// off the polygons of its own plane and off those touching the point that have some of the face
+// in front of them (the floor under a wall's foot, the wall beside a floor's edge). A wall's own bottom
+// face and a two-sided floor's underside touch its foot too, facing away from it: lifted off them
+// as well, the point went under the floor and read the light there.
+inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point, const DVec3& normal, double lift,
+                                   const std::array<DVec3, 3>& face) {
+    DVec3 direction(0.0);
+    for (uint32_t r = 0; r < solution.root_count; ++r) {
+        const Element& e = solution.elements[r];
+        const DVec3& origin = polygonOf(solution, e).vertices[0];
+        // Its own plane (the face and its neighbours there), as liftOffSurfaces lifts it.
+        const bool own_plane = glm::dot(e.normal, normal) > 1.0 - 1e-6;
+        if (!own_plane &&
+            std::none_of(face.begin(), face.end(), [&](const DVec3& v) { return glm::dot(e.normal, v - origin) > lift; }))
+            continue;
+        addLiftDirection(solution, r, point, lift, direction);
+    }
+    return point + lift * direction;
+}
+
 // Punctual lights' direct light at a point on triangle `triangle` of Scene::meshes[mesh]
 // (punctual_lights.h), its shadow rays cast from kPunctualLifts lifts into its polygon where the
 // point lies on the polygon's outline (intoPolygon) and off the face: the limit from inside the face,

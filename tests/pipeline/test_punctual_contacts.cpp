@@ -150,6 +150,37 @@ TEST_CASE("a wall on the edge of a floor lit from above: its foot keeps the ligh
     MESSAGE("from above and under: worst vertex " << worst.vertex << ", worst texel " << worst.texel);
 }
 
+// The exhaustive gather (the read-out's reference, and the vertex bake's where leaves disagree)
+// at the wall's foot: it reads the point lifted off the surfaces it touches, and the wall's own
+// bottom face and the floor's underside (lit from under the floor) lifted it below the floor.
+TEST_CASE("the exhaustive gather at a wall's foot on a floor lit from under it reads the dark side") {
+    TempDir dir;
+    const Bake baked = bakeText(dir, wallOnFloor(kFromBelow, 0.5));
+    const Scene& scene = *baked.scene;
+    const Mesh& wall = scene.meshes[1];
+    double worst = 0.0;
+    size_t points = 0;
+    for (uint32_t t = 0; t < wall.triangles.size(); ++t) {
+        const UVec3& tri = wall.triangles[t];
+        const DVec3 a(wall.positions[tri.x]), b(wall.positions[tri.y]), c(wall.positions[tri.z]);
+        const DVec3 n = glm::normalize(glm::cross(b - a, c - a));
+        if (!(n.z < -0.99)) continue;
+        // Its corners on the floor, and the middle of its edge on the floor.
+        std::vector<DVec3> foot;
+        for (const DVec3& corner : {a, b, c})
+            if (corner.y == 0.0) foot.push_back(corner);
+        if (foot.size() == 2) foot.push_back(0.5 * (foot[0] + foot[1]));
+        for (const DVec3& p : foot) {
+            const DVec3 h = surfaceIrradiance(*baked.solution, baked.options.readout, p, n, 1, t);
+            worst = std::max(worst, std::max({h.x, h.y, h.z}));
+            ++points;
+        }
+    }
+    CHECK(points >= 4);
+    CHECK(worst < 1e-4);
+    MESSAGE("exhaustive gather at the wall's foot: worst H " << worst << " of " << points << " points");
+}
+
 // The same with the wall one face, a pentagon whose fan of triangles has a sliver along its foot
 // (as house.wrl's gables, whose polygons take in the roof slab's 6 cm end): read from a step
 // towards the triangle's centroid or off the triangle's own edges, a point on the floor's line
