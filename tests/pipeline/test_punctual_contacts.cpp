@@ -124,7 +124,8 @@ TEST_CASE("a wall on the edge of a floor lit from under it: dark at its foot, at
     TempDir dir;
     const Bake baked = bakeText(dir, wallOnFloor(kFromBelow, 0.5));
     // The closed form is 0 everywhere above the floor; the light under it is 1 W/m^2, and the
-    // foot of the wall read it at 1/sqrt 5 (0.14 as H / pi), the floor's corners about half that.
+    // foot of the wall read it at 1/sqrt 5 (0.14 as H / pi). (The floor's corners take it only
+    // where the wall has light of its own: the test with a lamp, below.)
     const Worst worst = worstOff(baked, [](const DVec3&) { return 0.0; });
     CHECK(worst.vertices >= 8);
     CHECK(worst.texels >= 100);
