@@ -186,7 +186,7 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOp
         if (!lit) return DVec3(0.0);
         return links ? links->irradiance(at.mesh, at.triangle, at.p_world, at.normal_world,
                                          LinkReconstruction::Reading::Texel)
-                     : probeIrradiance(solution, readout, at.p_world, at.normal_world, at.mesh);
+                     : surfaceIrradiance(solution, readout, at.p_world, at.normal_world, at.mesh, at.triangle);
     };
     const HiddenTest hidden = [&](const SurfacePoint& at) {
         return lit && solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);

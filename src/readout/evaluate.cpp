@@ -73,10 +73,22 @@ double piecePointFormFactor(const DVec3& point, const DVec3& normal, std::span<c
 namespace {
 
 DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DVec3& point_on_surface,
-               const DVec3& normal, ProbeCounters* counters, uint32_t receiver_mesh) {
+               const DVec3& normal, ProbeCounters* counters, uint32_t receiver_mesh,
+               uint32_t receiver_triangle = kNoElement) {
     if (solution.elements.empty()) return DVec3(0.0);
     const double lift = gather::kLift * solution.scene_extent;
-    const DVec3 point = gather::liftOffSurfaces(solution, point_on_surface, normal, lift);
+    const Scene* scene = solution.scene;
+    const bool on_face = scene && receiver_mesh < scene->meshes.size() &&
+                         receiver_triangle < scene->meshes[receiver_mesh].triangles.size();
+    DVec3 point;
+    if (on_face) {
+        const Mesh& m = scene->meshes[receiver_mesh];
+        const UVec3& t = m.triangles[receiver_triangle];
+        point = gather::liftOffFacingSurfaces(solution, point_on_surface, normal, lift,
+                                              {DVec3(m.positions[t.x]), DVec3(m.positions[t.y]), DVec3(m.positions[t.z])});
+    } else {
+        point = gather::liftOffSurfaces(solution, point_on_surface, normal, lift);
+    }
     gather::Gatherer g{.s = solution,
                .o = options,
                .point = point,
@@ -86,11 +98,7 @@ DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DV
                .counters = counters,
                .use_rays = solution.rays != nullptr};
     for (uint32_t r = 0; r < solution.root_count; ++r) g.visit(r);
-    DVec3 h = g.sum;
-    if (solution.scene && !solution.scene->lights.empty())
-        h += punctualIrradiance(solution.scene->lights, solution.rays.get(), point_on_surface, normal, nullptr,
-                                receiver_mesh);
-    return h;
+    return g.sum + gather::punctualInside(solution, receiver_mesh, receiver_triangle, point_on_surface, normal);
 }
 
 }  // namespace
@@ -103,6 +111,11 @@ DVec3 probeIrradiance(const Solution& solution, const ReadoutOptions& options, c
 DVec3 probeIrradianceCounted(const Solution& solution, const ReadoutOptions& options, const DVec3& point,
                              const DVec3& normal, ProbeCounters& counters, uint32_t receiver_mesh) {
     return evaluate(solution, options, point, normal, &counters, receiver_mesh);
+}
+
+DVec3 surfaceIrradiance(const Solution& solution, const ReadoutOptions& options, const DVec3& point, const DVec3& normal,
+                        uint32_t mesh, uint32_t triangle, ProbeCounters* counters) {
+    return evaluate(solution, options, point, normal, counters, mesh, triangle);
 }
 
 }  // namespace radbake

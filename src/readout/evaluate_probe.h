@@ -36,6 +36,12 @@ DVec3 probeIrradiance(const Solution& solution, const ReadoutOptions& options, c
 DVec3 probeIrradianceCounted(const Solution& solution, const ReadoutOptions& options, const DVec3& point,
                              const DVec3& normal, ProbeCounters& counters, uint32_t receiver_mesh = 0xffffffffu);
 
+// The same gather at a point of triangle `triangle` of Scene::meshes[mesh] (a vertex, a texel's
+// point), whose punctual lights are read from just inside that triangle (gather.h,
+// punctualInside): its value is the limit from inside its face.
+DVec3 surfaceIrradiance(const Solution& solution, const ReadoutOptions& options, const DVec3& point, const DVec3& normal,
+                        uint32_t mesh, uint32_t triangle, ProbeCounters* counters = nullptr);
+
 // Pieces of probeIrradiance, exposed for tests.
 
 // splitPolygon (radiosity/elements.h) of a quad, to the bit, without heap allocations: pieces

@@ -4,6 +4,7 @@
 // the sources of the links that reach the point's element.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "radiosity/elements.h"
 #include "readout/evaluate_probe.h"
 #include "radiosity/form_factor.h"
+#include "radiosity/punctual_lights.h"
 #include "radiosity/refine.h"
 #include "radiosity/solution.h"
 #include "visibility/ray_caster.h"
@@ -346,6 +348,118 @@ inline DVec3 liftOffSurfaces(const Solution& solution, const DVec3& point, const
     for (uint32_t r = 0; r < solution.root_count; ++r)
         if (glm::dot(solution.elements[r].normal, normal) >= -0.99) addLiftDirection(solution, r, point, lift, direction);
     return point + lift * direction;
+}
+
+// The direction into the polygon that triangle t of `mesh` belongs to, from a point of that
+// triangle within `near` of its outline, in the face's plane (unit normal `normal`), scaled so
+// that a step of length L along it leaves the point at least L from the line of each edge of
+// the outline within `near` of it; zero inside. Towards the triangle's centroid (where
+// tools/vertex_probes nudges a vertex's reference: at a window's corner the lintel's shadow
+// starts there, and the light depends on the way in; a polygon's centroid can lie beyond a roof
+// the polygon reaches under), or where that runs within kMinSine of an edge beside the point (a
+// sliver along the outline, a reflex corner), along the bisector of those edges' inward normals.
+// The outline, not the triangle's own edges: surfaces meet a face along its outline, and a step
+// towards a sliver's centroid kept a point on its long edge within a fraction of the step of the
+// outline it lies along. A polygon's triangles are consecutive (the importers cut polygons in
+// order); an edge two of them share is inside.
+inline constexpr double kMinSine = 0.05;
+inline DVec3 intoPolygon(const Mesh& mesh, uint32_t t, const DVec3& normal, const DVec3& point, double near) {
+    uint32_t first = t, last = t + 1;
+    if (mesh.triangle_polygon.size() == mesh.triangles.size()) {
+        while (first > 0 && mesh.triangle_polygon[first - 1] == mesh.triangle_polygon[t]) --first;
+        while (last < mesh.triangles.size() && mesh.triangle_polygon[last] == mesh.triangle_polygon[t]) ++last;
+    }
+    const auto corners = [&](uint32_t u) {
+        const UVec3& o = mesh.triangles[u];
+        return std::array<uint32_t, 3>{o.x, o.y, o.z};
+    };
+    const auto inside = [&](uint32_t u, uint32_t i, uint32_t j) {
+        for (uint32_t w = first; w < last; ++w) {
+            if (w == u) continue;
+            const std::array<uint32_t, 3> c = corners(w);
+            const auto has = [&](uint32_t k) { return c[0] == k || c[1] == k || c[2] == k; };
+            if (has(i) && has(j)) return true;
+        }
+        return false;
+    };
+    std::array<DVec3, 4> inward{};
+    size_t count = 0;
+    DVec3 sum(0.0);
+    for (uint32_t u = first; u < last; ++u) {
+        const std::array<uint32_t, 3> c = corners(u);
+        const std::array<DVec3, 3> q{DVec3(mesh.positions[c[0]]), DVec3(mesh.positions[c[1]]), DVec3(mesh.positions[c[2]])};
+        for (size_t k = 0; k < 3 && count < inward.size(); ++k) {
+            const DVec3 edge = q[(k + 1) % 3] - q[k];
+            const double length = glm::length(edge);
+            const DVec3 across = glm::cross(normal, edge);
+            if (!(length > 0.0) || !(glm::length(across) > 0.0)) continue;
+            DVec3 in = glm::normalize(across);
+            if (glm::dot(in, q[(k + 2) % 3] - q[k]) < 0.0) in = -in;
+            const double along = glm::dot(point - q[k], edge) / length;
+            if (std::abs(glm::dot(point - q[k], in)) > near || along < -near || along > length + near) continue;
+            if (inside(u, c[k], c[(k + 1) % 3])) continue;
+            inward[count++] = in;
+            sum += in;
+        }
+    }
+    if (count == 0) return DVec3(0.0);
+    const auto least = [&](const DVec3& d) {
+        double m = 1.0;
+        for (size_t k = 0; k < count; ++k) m = std::min(m, glm::dot(d, inward[k]));
+        return m;
+    };
+    const std::array<uint32_t, 3> own = corners(t);
+    DVec3 to_centre =
+        (DVec3(mesh.positions[own[0]]) + DVec3(mesh.positions[own[1]]) + DVec3(mesh.positions[own[2]])) / 3.0 - point;
+    to_centre -= glm::dot(to_centre, normal) * normal;
+    if (glm::length(to_centre) > 0.0) {
+        const DVec3 d = glm::normalize(to_centre);
+        if (least(d) >= kMinSine) return d / least(d);
+    }
+    if (!(glm::length(sum) > 0.0)) return DVec3(0.0);
+    const DVec3 d = glm::normalize(sum);
+    return d / std::max(least(d), kMinSine);
+}
+
+// liftOffSurfaces at a point of a known face (`face`: its triangle's corners, facing `normal`):
+// off the polygons of its own plane and off those touching the point that have some of the face
+// in front of them (the floor under a wall's foot, the wall beside a floor's edge). A wall's own bottom
+// face and a two-sided floor's underside touch its foot too, facing away from it: lifted off them
+// as well, the point went under the floor and read the light there.
+inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point, const DVec3& normal, double lift,
+                                   const std::array<DVec3, 3>& face) {
+    DVec3 direction(0.0);
+    for (uint32_t r = 0; r < solution.root_count; ++r) {
+        const Element& e = solution.elements[r];
+        const DVec3& origin = polygonOf(solution, e).vertices[0];
+        // Its own plane (the face and its neighbours there), as liftOffSurfaces lifts it.
+        const bool own_plane = glm::dot(e.normal, normal) > 1.0 - 1e-6;
+        if (!own_plane &&
+            std::none_of(face.begin(), face.end(), [&](const DVec3& v) { return glm::dot(e.normal, v - origin) > lift; }))
+            continue;
+        addLiftDirection(solution, r, point, lift, direction);
+    }
+    return point + lift * direction;
+}
+
+// Punctual lights' direct light at a point on triangle `triangle` of Scene::meshes[mesh]
+// (punctual_lights.h), its shadow rays cast from kPunctualLifts lifts into its polygon where the
+// point lies on the polygon's outline (intoPolygon) and off the face: the limit from inside the face,
+// as a vertex's value is. From the point itself a ray leaving through a surface the point lies
+// on (a wall's foot on a floor, the light under the floor) crosses it within the ray caster's
+// start offset (one lift), and the light under the floor reached the wall's foot, and through
+// the edge correction the floor beside it.
+inline constexpr double kPunctualLifts = 4.0;
+inline DVec3 punctualInside(const Solution& solution, uint32_t mesh, uint32_t triangle, const DVec3& point,
+                            const DVec3& normal) {
+    const Scene* scene = solution.scene;
+    if (!scene || scene->lights.empty()) return DVec3(0.0);
+    DVec3 from = point;
+    if (mesh < scene->meshes.size() && triangle < scene->meshes[mesh].triangles.size()) {
+        const double step = kPunctualLifts * kLift * solution.scene_extent;
+        from = point + step * (intoPolygon(scene->meshes[mesh], triangle, normal, point, step) + normal);
+    }
+    return punctualIrradiance(scene->lights, solution.rays.get(), from, normal, nullptr, mesh);
 }
 
 }  // namespace gather

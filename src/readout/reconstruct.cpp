@@ -363,13 +363,8 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     ProbeCounters c;
     const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
     DVec3 h(0.0);
-    if (leaf == kNoElement) {
-        h = probeIrradianceCounted(s, o_, p_world, normal, c, mesh);
-    } else {
-        h = evaluateLeaf(leaf, p_world, normal, &c, edges);
-        if (s.scene && !s.scene->lights.empty())
-            h += punctualIrradiance(s.scene->lights, s.rays.get(), p_world, normal, nullptr, mesh);
-    }
+    if (leaf == kNoElement) h = surfaceIrradiance(s, o_, p_world, normal, mesh, triangle, &c);
+    else h = evaluateLeaf(leaf, p_world, normal, &c, edges) + gather::punctualInside(s, mesh, triangle, p_world, normal);
     tally(c, 1);
     if (counters) {
         counters->rays += c.rays;
@@ -379,9 +374,10 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     return h;
 }
 
-DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, const DVec3& p_world, const DVec3& normal) const {
+DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
+                                               const DVec3& normal) const {
     ProbeCounters c;
-    const DVec3 h = probeIrradianceCounted(s_, o_, p_world, normal, c, mesh);
+    const DVec3 h = surfaceIrradiance(s_, o_, p_world, normal, mesh, triangle, &c);
     tally(c, 1);
     return h;
 }

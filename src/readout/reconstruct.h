@@ -69,8 +69,8 @@ public:
         DVec3 h;       // H there: uncorrected, or as correctTogether has corrected it so far
     };
     DVec3 irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
-    // probeIrradiance (the exhaustive gather) at the point, counted in work().
-    DVec3 irradianceExhaustive(uint32_t mesh, const DVec3& p_world, const DVec3& normal) const;
+    // surfaceIrradiance (the exhaustive gather at a point of that triangle), counted in work().
+    DVec3 irradianceExhaustive(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     // The correction is linear in what each face beside gets at the point: per face,
     // sum over its touching leaves of w (B_mean - E - rho H_beside). Kept in that form, a
     // caller that knows every face's H at the point (the vertex bake) can solve their mutual

@@ -86,7 +86,7 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
     }
     if (count < 2 || !(hi > 0.0) || lo >= kUnequalLeaves * hi)
         return links.irradianceUncorrected(group.mesh, group.triangle, point.p, group.normal);
-    return links.irradianceExhaustive(group.mesh, point.p, group.normal);
+    return links.irradianceExhaustive(group.mesh, group.triangle, point.p, group.normal);
 }
 
 // The direction into the group's faces at the point: the mean of the unit directions to its
@@ -176,7 +176,7 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, const Read
             for (const Incident& g : point.groups)
                 point.h.push_back(!lit   ? DVec3(0.0)
                                   : links ? irradianceAt(solution, *links, point, g)
-                                          : probeIrradiance(solution, options, point.p, g.normal, g.mesh));
+                                          : surfaceIrradiance(solution, options, point.p, g.normal, g.mesh, g.triangle));
             if (links && options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
         }
         if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
