@@ -145,6 +145,17 @@ def test_probes(radbake, texel_probes, tmp):
         first = a.read()
         check(first == b.read(), "one seed gives other bytes")
         check(first != c.read(), "another seed gives the same bytes")
+    # --same-texels: the texels another probe file lists, in its order, whatever the seed.
+    same = os.path.join(tmp, "same.probes")
+    run([texel_probes, SCENE, bake, same, "--texel-density", DENSITY, "--seed", "7", "--same-texels", other])
+    with open(other) as a, open(same) as b:
+        listed = [l for l in a if not l.startswith("#")]
+        check(listed == [l for l in b if not l.startswith("#")], "--same-texels: other texels than the file lists")
+    with open(os.path.join(tmp, "bad.probes"), "w") as f:
+        f.write("0 0 0 0 1 0 # atlas 0 texel 100000 5 edge decile 0 H 0 0 0 mesh 0 x\n")
+    unknown = run([texel_probes, SCENE, bake, os.path.join(tmp, "none.probes"), "--texel-density", DENSITY,
+                   "--same-texels", os.path.join(tmp, "bad.probes")], expect=1)
+    check("bad.probes:1" in unknown.stderr, "--same-texels, a texel not in the bake: not located: %r" % unknown.stderr)
     refused = run([texel_probes, SCENE, bake, os.path.join(tmp, "no.probes"), "--texel-density", "30"], expect=1)
     check("error" in refused.stderr, "another layout: no error said: %r" % refused.stderr)
     check(not os.path.exists(os.path.join(tmp, "no.probes")), "another layout: a probe file was written")

@@ -19,6 +19,8 @@
 // S), the same number from each tenth of them by brightness (max channel), so shadows count as
 // much as lit walls. Each line is
 //   x y z nx ny nz # atlas A texel I J edge|inside decile D H R G B mesh M NAME
+// --same-texels FILE takes the texels (and deciles) a probe file of another bake of the same
+// layout lists instead, so that two bakes are scored at the same points by one reference.
 // with the texel's sample point (scene file units) and its face's normal, I the atlas column and
 // J the row (row 0 at the top), `edge` for a texel the bake evaluates whatever its tolerance
 // (chartTexelSites: partly covered or beside a texel that is not fully covered), and H the
@@ -31,6 +33,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -62,6 +65,7 @@ struct Args {
     ImportOptions import;
     LightmapSettings lightmaps;
     std::string lightmap_scales;
+    std::string same_texels;
 };
 
 // One covered, visible texel of the rebuilt layout with the bake's value there.
@@ -87,6 +91,8 @@ void addOptions(CLI::App& app, Args& args) {
     app.add_option("out", args.out, "Probe file to write")->required()->check(cli::nonEmptyPath());
     app.add_option("--count", args.count, "Probes to write")->transform(cli::wholeIn(10, 1000000))->capture_default_str();
     app.add_option("--seed", args.seed, "Seed of the choice of texels")->capture_default_str();
+    app.add_option("--same-texels", args.same_texels,
+                   "Take the texels a probe file of this tool lists (another bake of the same layout)");
     app.add_option("--threads", args.threads, "Threads (0: all cores)")->transform(cli::wholeIn(0, 1024))->capture_default_str();
     app.add_option("--quality", args.quality, "The bake's --quality")
         ->check(CLI::IsMember({"draft", "medium", "high", "reference"}))
@@ -270,6 +276,31 @@ std::string probeLine(const Texel& t, const Scene& scene, double file_per_metre)
     return line;
 }
 
+// The texels `path` (a probe file this tool wrote) lists, in its order and with its deciles.
+std::vector<Texel> chooseListed(const std::vector<Texel>& texels, const std::string& path) {
+    std::map<std::tuple<int, int, int>, const Texel*> by_position;
+    for (const Texel& t : texels) by_position[{t.atlas, t.x, t.y}] = &t;
+    std::ifstream in(path);
+    if (!in) fail("cannot read " + path);
+    std::vector<Texel> chosen;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        const size_t at = line.find("# atlas ");
+        if (line.empty() || line[0] == '#' || at == std::string::npos) continue;
+        int atlas = 0, x = 0, y = 0, decile = 0;
+        char edge[16] = {};
+        if (std::sscanf(line.c_str() + at, "# atlas %d texel %d %d %15s decile %d", &atlas, &x, &y, edge, &decile) != 5)
+            fail(path + ":" + std::to_string(number) + ": no texel in its comment");
+        const auto found = by_position.find({atlas, x, y});
+        if (found == by_position.end())
+            fail(path + ":" + std::to_string(number) + ": atlas " + std::to_string(atlas) + " texel " +
+                 std::to_string(x) + " " + std::to_string(y) + " is not a covered, visible texel of this bake");
+        chosen.push_back(*found->second);
+        chosen.back().decile = decile;
+    }
+    return chosen;
+}
+
 void writeProbes(const Args& args, const std::vector<Texel>& chosen, const Scene& scene) {
     std::ostringstream out;
     out << "# texel probes of " << args.scene << " for the bake in " << args.bake_dir << " (tools/texel_probes, seed "
@@ -305,7 +336,8 @@ int run(const Args& args) {
     check.lit_outside = litOutsideCharts(layout, atlases, options.lightmaps.padding);
     const std::vector<Texel> texels = coveredTexels(layout, atlases, runner, hidden, check);
     checkLayout(check, args.bake_dir);
-    const std::vector<Texel> chosen = chooseStratified(texels, args.count, args.seed);
+    const std::vector<Texel> chosen =
+        args.same_texels.empty() ? chooseStratified(texels, args.count, args.seed) : chooseListed(texels, args.same_texels);
     writeProbes(args, chosen, *scene);
     const size_t edges = std::count_if(texels.begin(), texels.end(), [](const Texel& t) { return t.edge; });
     std::fprintf(stderr,
