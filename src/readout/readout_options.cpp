@@ -22,6 +22,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_visibility_ratio = 0.005;
             o.probe_visibility_coarse = 0.07;
             o.probe_corner_rays = true;
+            o.probe_coarse_opening = true;
             o.edge_correction = EdgeCorrection::On;
             break;
         case Quality::Reference:
@@ -30,6 +31,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_visibility_ratio = 0.002;
             o.probe_visibility_coarse = 0.05;
             o.probe_corner_rays = true;
+            o.probe_coarse_opening = true;
             o.edge_correction = EdgeCorrection::On;
             break;
     }

@@ -44,6 +44,10 @@ struct ReadoutOptions {
     // steep toward that corner only (gather.h, kGrazingKernelRatio). Medium; high and
     // reference cast corner rays everywhere.
     bool probe_grazing_corner_rays = true;
+    // A bright, partly visible source is opened for rays as the exhaustive gather's coarse rule
+    // opens it (reconstruct.cpp, kCoarseShare). About a quarter of a texel's rays for a tenth of
+    // a point of RMS against the exhaustive gather (docs/readout.md): high and reference only.
+    bool probe_coarse_opening = false;
     // Shared at draft (a room's edges and corners, at about draft's cost), On above: Shared
     // leaves a block's feet on a floor uncorrected (docs/results.md has the figures).
     EdgeCorrection edge_correction = EdgeCorrection::On;

@@ -31,14 +31,11 @@ namespace {
 // all: 10 us a texel for 34 %. (Figures from before the gather's horizon-clipped rays and
 // its opening where the light varies, gather.h: since, 1.8 % at the same cost.)
 constexpr double kRayShare = 0.05;
-// A partly visible source (its link's rays disagreed) that may bring more than this share of
-// the point's light is opened as the exhaustive gather's coarse rule opens it (its unanimous
-// rays trusted only on pieces small enough): 2 x 2 rays from a point under a lamp to a 15 m^2
-// piece of floor all met beams, where a quarter of it shows. Measured with
-// tools/bench_reconstruct (texel RMS against the exhaustive gather, rays per covered texel):
-// on every such source instead of partly visible ones only, the Cornell Box at 64 texels/m
-// cast 900 rays a texel instead of 582 for the same 0.6 %; at a share of 0.1, shadow.wrl's
-// ground is off again.
+// With ReadoutOptions::probe_coarse_opening, a partly visible source (its link's rays
+// disagreed) that may bring more than this share of the point's light is opened as the
+// exhaustive gather's coarse rule opens it (its unanimous rays trusted only on pieces small
+// enough): 2 x 2 rays from a point under a lamp to a large piece of floor can all meet beams
+// where a quarter of it shows (docs/readout.md has what it costs and buys).
 constexpr double kCoarseShare = 0.02;
 constexpr double kLinkVisibilityRatio = 0.05;
 // A separable cluster link whose source holds at most this many roots is read member by
@@ -696,7 +693,7 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
         read[k] = 1;
         const PendingSource& p = pending[k];
         g.use_rays = true;
-        g.coarse_opening = p.partial && p.light > kCoarseShare * total;
+        g.coarse_opening = o_.probe_coarse_opening && p.partial && p.light > kCoarseShare * total;
         g.known_form_factor = p.form_factor;  // -1 (computed by the visit) for a far-field estimate
         // A lamp behind a link whose rays disagreed: its penumbra is the sharpest light
         // there is. (Behind every link not proven visible, house.wrl's vertices cast 1,176
