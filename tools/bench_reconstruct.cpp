@@ -194,8 +194,9 @@ int main(int argc, char** argv) {
     diagnostics.sink = [](const Diagnostic& d) {
         if (d.severity == Severity::Error) std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str());
     };
-    const auto scene = importScene(path, ImportOptions{}, diagnostics);
+    auto scene = importScene(path, ImportOptions{}, diagnostics);
     if (!scene) return 1;
+    addBackTwins(*scene);  // as bake() does: both sides of two-sided meshes take part
     const Quality q = qualityNamed(quality);
     BakeOptions preset = BakeOptions::forQuality(q);
     if (!edge_correction.empty())
