@@ -232,7 +232,7 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
             if (g.counters) ++g.counters->form_factors;
         }
         if (!(f > 0.0)) return;
-        pending.push_back({source_index, exact, f, f * maxChannel(source.radiosity), f * visibility * source.radiosity,
+        pending.push_back({source_index, exact, f * maxChannel(source.radiosity), f * visibility * source.radiosity,
                            visibility > 0.0 && visibility < 1.0});
     };
     for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)

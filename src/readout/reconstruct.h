@@ -141,8 +141,7 @@ private:
     uint32_t leafBelow(uint32_t e, const DVec3& p_world) const;
     struct PendingSource {
         uint32_t source;  // element
-        double form_factor;  // from the point, unoccluded (< 0: not computed, as below)
-        double estimate;  // the form factor, or its far-field estimate for a small, far source
+        double form_factor;  // from the point, unoccluded (< 0: a far-field estimate weights it)
         double light;     // f B (max channel), unoccluded
         DVec3 fallback;   // its light without rays
         bool partial;     // its link's rays disagreed (0 < visibility < 1)
