@@ -715,9 +715,15 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
                 return s.rays->segmentBlocked(g.origin, at + g.lift * e.normal);
             };
             bool hidden = blocked(e.centroid);
-            const PolygonView poly = polygonOf(s, e);
-            for (size_t c = 0; hidden && c < poly.vertices.size(); ++c)
-                hidden = blocked(poly.vertices[c] + 0.25 * (e.centroid - poly.vertices[c]));
+            if (hidden) {
+                // The corners together, as packets: most such sources are hidden from all of them.
+                const PolygonView poly = polygonOf(s, e);
+                thread_local std::vector<DVec3> corners;
+                corners.clear();
+                for (const DVec3& v : poly.vertices) corners.push_back(v + 0.25 * (e.centroid - v) + g.lift * e.normal);
+                if (g.counters) g.counters->rays += corners.size();
+                hidden = s.rays->countOpenFrom(g.origin, corners) == 0;
+            }
             if (hidden) {
                 pending_light -= p.light;
                 continue;
