@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include "radiosity/cluster.h"
@@ -34,7 +35,10 @@ struct Operator {
     std::vector<DVec3> cluster_h;     // per root: irradiance through cluster links
     std::vector<double> cluster_share;  // per leaf: its share of its root's cluster irradiance
 
-    Operator(Solution& solution, ParallelRunner& r) : s(solution), runner(r), clusters(solution) {
+    RowSumCache* cache = nullptr;
+
+    Operator(Solution& solution, ParallelRunner& r, RowSumCache* row_cache)
+        : s(solution), runner(r), clusters(solution), cache(row_cache) {
         double total = 0.0;
         for (uint32_t i = 0; i < s.elements.size(); ++i)
             if (s.elements[i].isLeaf()) {
@@ -76,18 +80,45 @@ struct Operator {
         return gaussAveragedFormFactor(poly.vertices, leaf.normal, source.vertices, source.normal);
     }
 
+    // Of the inherited links' sources and visibilities, in order: what the exact sum reads.
+    static uint64_t mix(uint64_t h, uint64_t v) {
+        h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+        h ^= h >> 31;
+        return h * 0xbf58476d1ce4e5b9ull;
+    }
+
     void computeCorrections() {
         correction.assign(leaves.size(), 1.0);
         std::vector<double> row_hier(leaves.size(), 0.0), row_exact(leaves.size(), 0.0);
+        if (cache) {
+            cache->signature.resize(s.elements.size(), 0);
+            cache->exact.resize(s.elements.size(), 0.0);
+            cache->known.resize(s.elements.size(), 0);
+        }
         runner.forEach(leaves.size(), 64, [&](size_t k) {
             const Element& leaf = s.elements[leaves[k]];
             double hierarchical = 0.0, exact = 0.0;
+            uint64_t signature = 0x2545f4914f6cdd1dull;
             for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent) {
                 for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l) {
                     const Link& link = s.links[l];
-                    const Element& source = s.elements[link.source];
                     hierarchical += link.form_factor;
-                    exact += link.visibility * leafAverage(leaf, source);
+                    uint32_t visibility_bits = 0;
+                    std::memcpy(&visibility_bits, &link.visibility, sizeof visibility_bits);
+                    signature = mix(signature, (uint64_t(link.source) << 32) | visibility_bits);
+                }
+            }
+            const uint32_t id = leaves[k];
+            if (cache && cache->known[id] && cache->signature[id] == signature) {
+                exact = cache->exact[id];
+            } else {
+                for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent)
+                    for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l)
+                        exact += s.links[l].visibility * leafAverage(leaf, s.elements[s.links[l].source]);
+                if (cache) {
+                    cache->signature[id] = signature;
+                    cache->exact[id] = exact;
+                    cache->known[id] = 1;
                 }
             }
             double own = 0.0;
@@ -259,8 +290,8 @@ void groupLinksByReceiver(Solution& solution, std::vector<LinkRecord>* records) 
 }
 
 LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, SolveStart start, double tolerance,
-                                 int max_iterations) {
-    Operator op(solution, runner);
+                                 int max_iterations, RowSumCache* cache) {
+    Operator op(solution, runner, cache);
     const size_t n = op.leaves.size();
     LinearSolveResult result;
     Vector b(n), x(n), r(n), w(n), ax(n);

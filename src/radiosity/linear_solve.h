@@ -24,10 +24,21 @@ struct LinearSolveResult {
 // the round's answer: those links only add light where it was missing.
 enum class SolveStart { Emission, Current };
 
+// A leaf's exact row sum through its ancestors' links (the operator's set-up, the most costly
+// part of a solve on a refined hierarchy), kept between the solves of one hierarchy: a leaf
+// whose ancestors' links name the same sources with the same visibility keeps it. Elements
+// keep their indices as the hierarchy grows, so entries stay valid across rounds.
+struct RowSumCache {
+    std::vector<uint64_t> signature;  // per element: of the links its row sum was taken over
+    std::vector<double> exact;        // per element
+    std::vector<uint8_t> known;       // per element
+};
+
 // Leaves every element's radiosity and gathered irradiance consistent with the result.
-// Links must be grouped by receiver.
+// Links must be grouped by receiver. `cache`, when given, is read and updated (see above); the
+// result is the same with or without it.
 LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, SolveStart start, double tolerance,
-                                 int max_iterations);
+                                 int max_iterations, RowSumCache* cache = nullptr);
 
 // Sorts links by receiver (stable, so the order within a receiver stays the creation order).
 void groupLinksByReceiver(Solution& solution, std::vector<struct LinkRecord>* records);

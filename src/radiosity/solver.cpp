@@ -60,6 +60,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
     std::vector<PendingLink> pending;
     if (!clusters) pending = initialLinks(state);
     LinearSolveResult result;
+    RowSumCache row_sums;
     const int rounds = std::max(1, options.refine_rounds);
     for (int round = 0; round < rounds; ++round) {
         const std::string suffix = round == 0 ? "" : " " + std::to_string(round + 1);
@@ -72,7 +73,8 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         if (clusters) groupClusterLinksByReceiver(s);
         stopIfCancelled(runner);
         progress.beginPhase("solve" + suffix);
-        result = solveHierarchy(s, runner, SolveStart::Emission, options.iteration_tolerance, options.max_iterations);
+        result = solveHierarchy(s, runner, SolveStart::Emission, options.iteration_tolerance, options.max_iterations,
+                                &row_sums);
         stopIfCancelled(runner);
         s.stats.iterations += result.iterations;
         // The last round repeats the deferred pass while it lights new sources (each pass
@@ -97,7 +99,8 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
             groupLinksByReceiver(s, &state.records);
             groupClusterLinksByReceiver(s);
             progress.beginPhase("solve" + suffix + deferred_name);
-            result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance, options.max_iterations);
+            result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance, options.max_iterations,
+                                    &row_sums);
             s.stats.iterations += result.iterations;
         }
         s.stats.rounds = round + 1;

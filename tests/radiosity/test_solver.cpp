@@ -5,6 +5,7 @@
 
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
+#include "radiosity/linear_solve.h"
 #include "test_scenes.h"
 #include "readout/evaluate_probe.h"
 
@@ -251,4 +252,47 @@ TEST_CASE("a point light above a grey floor: direct irradiance, then bounced") {
     const double omega = 4.0 * std::asin(0.5);
     CHECK(power == doctest::Approx(0.5 * 2.0 * omega).epsilon(0.01).scale(0.0));
     CHECK(solution->stats.elements > 1);  // the light's gradient was refined
+}
+
+// The row sums kept between solves (RowSumCache) give the same answer as taking them afresh,
+// after the links a leaf inherits changed: a kept sum is used only for the same sources at the
+// same visibility.
+TEST_CASE("row sums kept between solves: the same radiosities as without them, after links change") {
+    Scene scene = closedBox(0.9f, 0.0f);
+    const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(5.0f));
+    addOutwardBox(scene, lamp, Vec3(0.4f, 0.8f, 0.4f), Vec3(0.6f, 0.85f, 0.6f));
+    const uint32_t grey = addMaterial(scene, Vec3(0.5f), Vec3(0.0f));
+    addOutwardBox(scene, grey, Vec3(0.2f, 0.0f, 0.2f), Vec3(0.5f, 0.3f, 0.5f));
+    Diagnostics diagnostics;
+    auto solution = solve(scene, medium(), diagnostics);
+    REQUIRE(solution);
+    Solution& s = *solution;
+    const auto radiosities = [&] {
+        std::vector<DVec3> b;
+        for (const Element& e : s.elements) b.push_back(e.radiosity);
+        return b;
+    };
+    const auto solveWith = [&](RowSumCache* cache) {
+        solveHierarchy(s, testRunner(), SolveStart::Emission, 1e-10, 400, cache);
+        return radiosities();
+    };
+    RowSumCache cache;
+    const std::vector<DVec3> first = solveWith(&cache);
+    CHECK(first == solveWith(nullptr));
+    size_t kept = 0;
+    for (const uint8_t known : cache.known) kept += known;
+    REQUIRE(kept > 0);
+    // Change inherited links: the visibility of one, the source of another (both on inner
+    // elements, whose leaves below read them).
+    size_t changed = 0;
+    for (Link& link : s.links) {
+        if (s.elements[link.receiver].isLeaf() || !(link.visibility > 0.0f)) continue;
+        if (changed == 0) link.visibility *= 0.5f;
+        else if (changed == 1) link.source = s.elements[link.source].parent != kNoElement ? s.elements[link.source].parent : link.source;
+        if (++changed == 2) break;
+    }
+    REQUIRE(changed == 2);
+    const std::vector<DVec3> fresh = solveWith(nullptr);
+    CHECK(fresh != first);
+    CHECK(solveWith(&cache) == fresh);
 }
