@@ -53,6 +53,13 @@ inline double atan2Upper(double y, double x) {
     return x < 0.0 ? kPi - angle : angle;
 }
 
+// Folds v into the running hash h (a signature of what a cached value was computed from).
+inline uint64_t mixHash(uint64_t h, uint64_t v) {
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h ^= h >> 31;
+    return h * 0xbf58476d1ce4e5b9ull;
+}
+
 inline bool isFinite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

@@ -917,13 +917,35 @@ void ClusterTransfer::forLinksOf(const Solution& s, uint32_t root, F&& f) const 
 }
 
 std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunner& runner,
-                                                 const std::vector<uint32_t>& leaves) const {
+                                                 const std::vector<uint32_t>& leaves, LeafKernelCache* cache) const {
     std::vector<double> factor(leaves.size(), 1.0);
     if (empty_) return factor;
     std::vector<double> kernel_at(leaves.size(), 0.0);
+    if (cache) {
+        cache->signature.resize(s.elements.size(), 0);
+        cache->kernel.resize(s.elements.size(), 0.0);
+        cache->known.resize(s.elements.size(), 0);
+    }
     runner.forEach(leaves.size(), 16, [&](size_t k) {
         const Element& leaf = s.elements[leaves[k]];
         if (leaves[k] == leaf.root) return;  // the root itself: its kernel is the links' own
+        uint64_t signature = 0x2545f4914f6cdd1dull;
+        if (cache) {
+            // What the sum reads: each link's source node, and a small link's lit pairs.
+            forLinksOf(s, leaf.root, [&](size_t l) {
+                const ClusterLink& link = s.cluster_links[l];
+                signature = mixHash(signature, (uint64_t(link.source) << 1) | (link.kernel == kNoKernel));
+                if (link.kernel == kNoKernel) return;
+                const NodeMembers sm = membersOf(s, link.source), rm = membersOf(s, link.receiver);
+                const uint32_t j = s.member_position[leaf.root] - rm.first;
+                for (uint32_t i = 0; i < sm.count; ++i)
+                    if (pairKernelOf(s, link, i * rm.count + j) > 0.0) signature = mixHash(signature, i);
+            });
+            if (cache->known[leaves[k]] && cache->signature[leaves[k]] == signature) {
+                kernel_at[k] = cache->kernel[leaves[k]];
+                return;
+            }
+        }
         double sum = 0.0;
         forLinksOf(s, leaf.root, [&](size_t l) {
             const ClusterLink& link = s.cluster_links[l];
@@ -948,6 +970,11 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
             }
         });
         kernel_at[k] = sum;
+        if (cache) {
+            cache->signature[leaves[k]] = signature;
+            cache->kernel[leaves[k]] = sum;
+            cache->known[leaves[k]] = 1;
+        }
     });
     // Area averages per root (sequential: a fixed order), then each leaf's share.
     std::vector<double> weighted(s.root_count, 0.0), area(s.root_count, 0.0);

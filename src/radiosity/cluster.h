@@ -92,6 +92,14 @@ void dropDeferredClusterLinks(Solution& solution);
 // Sorts Solution::cluster_links by receiver node (roots first, then clusters; stable).
 void groupClusterLinksByReceiver(Solution& solution);
 
+// ClusterTransfer::leafFactors' kernel per element, kept between the solves of one bake: a leaf
+// whose root's cluster links name the same sources and the same lit member pairs keeps it.
+struct LeafKernelCache {
+    std::vector<uint64_t> signature;
+    std::vector<double> kernel;
+    std::vector<uint8_t> known;
+};
+
 // The irradiance the cluster links bring, for the solve: per root, from the roots' current
 // radiosity (Element::radiosity, inner averages pulled up). Links must be grouped.
 class ClusterTransfer {
@@ -108,8 +116,9 @@ public:
     // centroid over its area average on the root (1 for a root that is its own leaf).
     // Without it a subdivided root near a room edge reads its cluster light uniform
     // (4 % errors in a tessellated furnace).
+    // `cache`, when given, keeps each leaf's kernel between solves (same result).
     std::vector<double> leafFactors(const Solution& solution, ParallelRunner& runner,
-                                    const std::vector<uint32_t>& leaves) const;
+                                    const std::vector<uint32_t>& leaves, LeafKernelCache* cache = nullptr) const;
 
 private:
     // Calls f(link index) for every cluster link whose receiver holds root r, in a fixed order.

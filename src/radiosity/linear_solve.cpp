@@ -52,7 +52,7 @@ struct Operator {
         pushed.assign(s.elements.size(), DVec3(0.0));
         pushed_sampled.assign(s.elements.size(), DVec3(0.0));
         computeCorrections();
-        cluster_share = clusters.leafFactors(s, runner, leaves);
+        cluster_share = clusters.leafFactors(s, runner, leaves, cache ? &cache->cluster_kernels : nullptr);
         limitRowSums();
     }
 
@@ -80,13 +80,6 @@ struct Operator {
         return gaussAveragedFormFactor(poly.vertices, leaf.normal, source.vertices, source.normal);
     }
 
-    // Of the inherited links' sources and visibilities, in order: what the exact sum reads.
-    static uint64_t mix(uint64_t h, uint64_t v) {
-        h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-        h ^= h >> 31;
-        return h * 0xbf58476d1ce4e5b9ull;
-    }
-
     void computeCorrections() {
         correction.assign(leaves.size(), 1.0);
         std::vector<double> row_hier(leaves.size(), 0.0), row_exact(leaves.size(), 0.0);
@@ -98,6 +91,7 @@ struct Operator {
         runner.forEach(leaves.size(), 64, [&](size_t k) {
             const Element& leaf = s.elements[leaves[k]];
             double hierarchical = 0.0, exact = 0.0;
+            // Of the inherited links' sources and visibilities, in order: what the exact sum reads.
             uint64_t signature = 0x2545f4914f6cdd1dull;
             for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent) {
                 for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l) {
@@ -105,7 +99,7 @@ struct Operator {
                     hierarchical += link.form_factor;
                     uint32_t visibility_bits = 0;
                     std::memcpy(&visibility_bits, &link.visibility, sizeof visibility_bits);
-                    signature = mix(signature, (uint64_t(link.source) << 32) | visibility_bits);
+                    signature = mixHash(signature, (uint64_t(link.source) << 32) | visibility_bits);
                 }
             }
             const uint32_t id = leaves[k];

@@ -5,6 +5,7 @@
 // rho = 0.99 plain Jacobi needs ~230 sweeps per decade, GMRES a few tens of steps in all.
 // Deterministic: every sum runs in a fixed order whatever the thread count.
 #include "core/parallel.h"
+#include "radiosity/cluster.h"
 #include "radiosity/solution.h"
 
 namespace radbake {
@@ -32,6 +33,7 @@ struct RowSumCache {
     std::vector<uint64_t> signature;  // per element: of the links its row sum was taken over
     std::vector<double> exact;        // per element
     std::vector<uint8_t> known;       // per element
+    LeafKernelCache cluster_kernels;  // the cluster links' share of each leaf (cluster.h)
 };
 
 // Leaves every element's radiosity and gathered irradiance consistent with the result.

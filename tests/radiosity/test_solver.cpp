@@ -254,9 +254,9 @@ TEST_CASE("a point light above a grey floor: direct irradiance, then bounced") {
     CHECK(solution->stats.elements > 1);  // the light's gradient was refined
 }
 
-// The row sums kept between solves (RowSumCache) give the same answer as taking them afresh,
-// after the links a leaf inherits changed: a kept sum is used only for the same sources at the
-// same visibility.
+// The row sums and cluster shares kept between solves (RowSumCache) give the same answer as
+// taking them afresh, after the links a leaf inherits or its root's cluster links changed: a
+// kept value is used only for the same sources at the same visibility.
 TEST_CASE("row sums kept between solves: the same radiosities as without them, after links change") {
     Scene scene = closedBox(0.9f, 0.0f);
     const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(5.0f));
@@ -295,4 +295,26 @@ TEST_CASE("row sums kept between solves: the same radiosities as without them, a
     const std::vector<DVec3> fresh = solveWith(nullptr);
     CHECK(fresh != first);
     CHECK(solveWith(&cache) == fresh);
+    // And the cluster links reaching one subdivided root (its own and its clusters') dropped
+    // but one: its leaves' shares of the cluster light are then that link's kernel alone.
+    const auto reaches = [&](uint32_t receiver, uint32_t r) {
+        if (receiver == r) return true;
+        for (uint32_t c = s.root_leaf_cluster[r]; c != kNoElement; c = s.clusters[c].parent)
+            if (receiver == (c | kClusterNode)) return true;
+        return false;
+    };
+    uint32_t root = kNoElement;
+    for (uint32_t r = 0; r < s.root_count && root == kNoElement; ++r) {
+        if (s.elements[r].isLeaf()) continue;
+        size_t count = 0;
+        for (const ClusterLink& link : s.cluster_links) count += reaches(link.receiver, r) && link.visibility > 0.0f;
+        if (count >= 2) root = r;
+    }
+    REQUIRE(root != kNoElement);
+    size_t kept_links = 0;
+    for (ClusterLink& link : s.cluster_links)
+        if (reaches(link.receiver, root) && link.visibility > 0.0f && kept_links++ > 0) link.visibility = 0.0f;
+    const std::vector<DVec3> without_links = solveWith(nullptr);
+    CHECK(without_links != fresh);
+    CHECK(solveWith(&cache) == without_links);
 }
