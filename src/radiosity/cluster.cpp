@@ -917,20 +917,16 @@ void ClusterTransfer::forLinksOf(const Solution& s, uint32_t root, F&& f) const 
 }
 
 std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunner& runner,
-                                                 const std::vector<uint32_t>& leaves, LeafKernelCache* cache) const {
+                                                 const std::vector<uint32_t>& leaves, ElementMemo* kept) const {
     std::vector<double> factor(leaves.size(), 1.0);
     if (empty_) return factor;
     std::vector<double> kernel_at(leaves.size(), 0.0);
-    if (cache) {
-        cache->signature.resize(s.elements.size(), 0);
-        cache->kernel.resize(s.elements.size(), 0.0);
-        cache->known.resize(s.elements.size(), 0);
-    }
+    if (kept) kept->cover(s.elements.size());
     runner.forEach(leaves.size(), 16, [&](size_t k) {
         const Element& leaf = s.elements[leaves[k]];
         if (leaves[k] == leaf.root) return;  // the root itself: its kernel is the links' own
-        uint64_t signature = 0x2545f4914f6cdd1dull;
-        if (cache) {
+        uint64_t signature = ElementMemo::kSignatureSeed;
+        if (kept) {
             // What the sum reads: each link's source node, and a small link's lit pairs.
             forLinksOf(s, leaf.root, [&](size_t l) {
                 const ClusterLink& link = s.cluster_links[l];
@@ -941,10 +937,7 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
                 for (uint32_t i = 0; i < sm.count; ++i)
                     if (pairKernelOf(s, link, i * rm.count + j) > 0.0) signature = mixHash(signature, i);
             });
-            if (cache->known[leaves[k]] && cache->signature[leaves[k]] == signature) {
-                kernel_at[k] = cache->kernel[leaves[k]];
-                return;
-            }
+            if (kept->find(leaves[k], signature, kernel_at[k])) return;
         }
         double sum = 0.0;
         forLinksOf(s, leaf.root, [&](size_t l) {
@@ -970,11 +963,7 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
             }
         });
         kernel_at[k] = sum;
-        if (cache) {
-            cache->signature[leaves[k]] = signature;
-            cache->kernel[leaves[k]] = sum;
-            cache->known[leaves[k]] = 1;
-        }
+        if (kept) kept->keep(leaves[k], signature, sum);
     });
     // Area averages per root (sequential: a fixed order), then each leaf's share.
     std::vector<double> weighted(s.root_count, 0.0), area(s.root_count, 0.0);

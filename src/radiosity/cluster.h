@@ -92,12 +92,31 @@ void dropDeferredClusterLinks(Solution& solution);
 // Sorts Solution::cluster_links by receiver node (roots first, then clusters; stable).
 void groupClusterLinksByReceiver(Solution& solution);
 
-// ClusterTransfer::leafFactors' kernel per element, kept between the solves of one bake: a leaf
-// whose root's cluster links name the same sources and the same lit member pairs keeps it.
-struct LeafKernelCache {
+// A value per element kept between the solves of one bake, with a signature (mixHash, from
+// kSignatureSeed) of what it was computed from: used again only for the same signature. Elements
+// keep their indices as the hierarchy grows, so entries stay valid across rounds.
+struct ElementMemo {
+    static constexpr uint64_t kSignatureSeed = 0x2545f4914f6cdd1dull;
     std::vector<uint64_t> signature;
-    std::vector<double> kernel;
+    std::vector<double> value;
     std::vector<uint8_t> known;
+
+    void cover(size_t elements) {
+        signature.resize(elements, 0);
+        value.resize(elements, 0.0);
+        known.resize(elements, 0);
+    }
+    // Call cover() first; find and keep touch only their own element's slot (thread-safe per element).
+    bool find(uint32_t e, uint64_t sig, double& out) const {
+        if (!known[e] || signature[e] != sig) return false;
+        out = value[e];
+        return true;
+    }
+    void keep(uint32_t e, uint64_t sig, double v) {
+        signature[e] = sig;
+        value[e] = v;
+        known[e] = 1;
+    }
 };
 
 // The irradiance the cluster links bring, for the solve: per root, from the roots' current
@@ -116,9 +135,10 @@ public:
     // centroid over its area average on the root (1 for a root that is its own leaf).
     // Without it a subdivided root near a room edge reads its cluster light uniform
     // (4 % errors in a tessellated furnace).
-    // `cache`, when given, keeps each leaf's kernel between solves (same result).
+    // `kept`, when given, keeps each leaf's kernel between solves, signed by the cluster links
+    // and lit member pairs it read (same result).
     std::vector<double> leafFactors(const Solution& solution, ParallelRunner& runner,
-                                    const std::vector<uint32_t>& leaves, LeafKernelCache* cache = nullptr) const;
+                                    const std::vector<uint32_t>& leaves, ElementMemo* kept = nullptr) const;
 
 private:
     // Calls f(link index) for every cluster link whose receiver holds root r, in a fixed order.

@@ -83,16 +83,13 @@ struct Operator {
     void computeCorrections() {
         correction.assign(leaves.size(), 1.0);
         std::vector<double> row_hier(leaves.size(), 0.0), row_exact(leaves.size(), 0.0);
-        if (cache) {
-            cache->signature.resize(s.elements.size(), 0);
-            cache->exact.resize(s.elements.size(), 0.0);
-            cache->known.resize(s.elements.size(), 0);
-        }
+        ElementMemo* kept = cache ? &cache->row_sums : nullptr;
+        if (kept) kept->cover(s.elements.size());
         runner.forEach(leaves.size(), 64, [&](size_t k) {
             const Element& leaf = s.elements[leaves[k]];
             double hierarchical = 0.0, exact = 0.0;
             // Of the inherited links' sources and visibilities, in order: what the exact sum reads.
-            uint64_t signature = 0x2545f4914f6cdd1dull;
+            uint64_t signature = ElementMemo::kSignatureSeed;
             for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent) {
                 for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l) {
                     const Link& link = s.links[l];
@@ -102,18 +99,11 @@ struct Operator {
                     signature = mixHash(signature, (uint64_t(link.source) << 32) | visibility_bits);
                 }
             }
-            const uint32_t id = leaves[k];
-            if (cache && cache->known[id] && cache->signature[id] == signature) {
-                exact = cache->exact[id];
-            } else {
+            if (!kept || !kept->find(leaves[k], signature, exact)) {
                 for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent)
                     for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l)
                         exact += s.links[l].visibility * leafAverage(leaf, s.elements[s.links[l].source]);
-                if (cache) {
-                    cache->signature[id] = signature;
-                    cache->exact[id] = exact;
-                    cache->known[id] = 1;
-                }
+                if (kept) kept->keep(leaves[k], signature, exact);
             }
             double own = 0.0;
             for (size_t l = link_begin[leaves[k]]; l < link_begin[leaves[k] + 1]; ++l) own += s.links[l].form_factor;

@@ -25,15 +25,13 @@ struct LinearSolveResult {
 // the round's answer: those links only add light where it was missing.
 enum class SolveStart { Emission, Current };
 
-// A leaf's exact row sum through its ancestors' links (the operator's set-up, the most costly
-// part of a solve on a refined hierarchy), kept between the solves of one hierarchy: a leaf
-// whose ancestors' links name the same sources with the same visibility keeps it. Elements
-// keep their indices as the hierarchy grows, so entries stay valid across rounds.
+// The operator's per-leaf set-up (the most costly part of a solve on a refined hierarchy), kept
+// between the solves of one hierarchy (cluster.h, ElementMemo).
 struct RowSumCache {
-    std::vector<uint64_t> signature;  // per element: of the links its row sum was taken over
-    std::vector<double> exact;        // per element
-    std::vector<uint8_t> known;       // per element
-    LeafKernelCache cluster_kernels;  // the cluster links' share of each leaf (cluster.h)
+    // A leaf's exact row sum through its ancestors' links, signed by their sources and visibilities.
+    ElementMemo row_sums;
+    // Its share of its root's cluster light (ClusterTransfer::leafFactors).
+    ElementMemo cluster_kernels;
 };
 
 // Leaves every element's radiosity and gathered irradiance consistent with the result.

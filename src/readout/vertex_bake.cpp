@@ -63,9 +63,9 @@ double solvedIrradiance(const Solution& solution, uint32_t leaf) {
 // mostly under it, and a ceiling vertex over a lamp hung just below it the light of a tile
 // reaching past the lamp's shadow (the mean over the leaves, too, read it twice its light). There
 // the vertex takes the exhaustive gather, which reads every root with rays at the point. (A
-// leaf's links read with rays at the vertex for every source cost a third as much, but read
-// vertices on a lit room's furniture near zero where the exhaustive gather and a path tracer
-// agree.)
+// leaf's links read with rays at the vertex for every source cost a third as much, but read a
+// lit room's furniture vertices darker than a path tracer does, where the exhaustive gather
+// agrees with it: docs/readout.md.)
 constexpr double kUnequalLeaves = 0.5;
 
 DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, const WeldedPoint& point,

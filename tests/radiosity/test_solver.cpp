@@ -280,7 +280,7 @@ TEST_CASE("row sums kept between solves: the same radiosities as without them, a
     const std::vector<DVec3> first = solveWith(&cache);
     CHECK(first == solveWith(nullptr));
     size_t kept = 0;
-    for (const uint8_t known : cache.known) kept += known;
+    for (const uint8_t known : cache.row_sums.known) kept += known;
     REQUIRE(kept > 0);
     // Change inherited links: the visibility of one, the source of another (both on inner
     // elements, whose leaves below read them).
