@@ -2,6 +2,10 @@
 //
 //   reference_mc SCENE PROBES [--samples N] [--seed S] [--threads T] [--unit-scale U]
 //                [--emission-scale E] [--no-nee] [-o OUT.csv]
+//                [--sky MODEL] [--sky-radiance L] [--up AXIS] [--sun AZ,EL] [--sun-irradiance E]
+//                [--sun-diameter D]
+//
+// The daylight options mean what `radbake bake`'s do (scene/daylight.h).
 //
 // --no-nee: pure path tracing (emission counted only where paths hit it; punctual lights,
 // which no path can hit, are still sampled at every vertex) instead of the default next-event
@@ -16,6 +20,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -28,7 +33,9 @@ namespace {
 int usage() {
     std::fprintf(stderr,
                  "usage: reference_mc SCENE PROBES [--samples N=4096] [--seed S=1] [--threads T=0]\n"
-                 "                    [--unit-scale U=1] [--emission-scale E=1] [--no-nee] [-o OUT.csv]\n");
+                 "                    [--unit-scale U=1] [--emission-scale E=1] [--no-nee] [-o OUT.csv]\n"
+                 "                    [--sky none|uniform|overcast] [--sky-radiance L=1] [--up AXIS=+y]\n"
+                 "                    [--sun AZ,EL] [--sun-irradiance E=25] [--sun-diameter D=0.53]\n");
     return 2;
 }
 
@@ -50,6 +57,20 @@ int main(int argc, char** argv) {
         else if (arg == "--unit-scale" && (v = value())) import.unit_scale = std::strtof(v, nullptr);
         else if (arg == "--emission-scale" && (v = value())) import.emission_scale = std::strtof(v, nullptr);
         else if ((arg == "-o" || arg == "--output") && (v = value())) out_path = v;
+        else if (arg == "--sky" && (v = value())) {
+            const std::optional<SkyModel> sky = parseSkyModel(v);
+            if (!sky) return usage();
+            import.daylight.sky = *sky;
+        } else if (arg == "--up" && (v = value())) {
+            const std::optional<Vec3> up = parseUpAxis(v);
+            if (!up) return usage();
+            import.daylight.up = *up;
+        } else if (arg == "--sun" && (v = value())) {
+            import.daylight.sun = parseSunPosition(v);
+            if (!import.daylight.sun) return usage();
+        } else if (arg == "--sky-radiance" && (v = value())) import.daylight.sky_radiance = std::strtod(v, nullptr);
+        else if (arg == "--sun-irradiance" && (v = value())) import.daylight.sun_irradiance = std::strtod(v, nullptr);
+        else if (arg == "--sun-diameter" && (v = value())) import.daylight.sun_diameter_degrees = std::strtod(v, nullptr);
         else if (!arg.empty() && arg[0] != '-' && scene_path.empty()) scene_path = arg;
         else if (!arg.empty() && arg[0] != '-' && probes_path.empty()) probes_path = arg;
         else return usage();

@@ -25,7 +25,7 @@
 // cut. Back faces are black and absorb (patches are one-sided, as in the solver), except on
 // two-sided meshes (Mesh::solid false, scene/two_sided.h), which reflect and emit alike on both
 // sides: a hit from behind sees the face with its normal flipped. Back twins (Mesh::back) are
-// skipped, their front stands for both sides. The background is black. Per-face/per-vertex
+// skipped, their front stands for both sides. The background is black, or the sky (below). Per-face/per-vertex
 // colours and textures are ignored (material rho only).
 //
 // Punctual lights (VRML PointLight, SpotLight, DirectionalLight; Scene::lights), in both
@@ -36,7 +36,14 @@
 // (src/radiosity/punctual_lights.h), implemented here on its own: Point and Spot
 // H = I cos / d^2 / max(a0 + a1 d + a2 d^2, 1), none beyond `radius`, a spot's factor linear
 // in the angle from its beam width to its cut-off; Directional H = E cos. A scoped light lights
-// only the meshes of its scope directly; probes (no mesh) are lit by every light.
+// only the meshes of its scope directly; probes (no mesh) are lit by every light. A directional
+// light with an angular diameter (the sun of --sun) is a disc of half-angle a at infinity with
+// radiance E / (pi sin^2 a), sampled uniformly over its cone: H = E 2 / (1 + cos a) cos V.
+//
+// The sky (Scene::sky, scene/daylight.h): a path whose cosine-sampled ray leaves the scene adds
+// pi L_sky(direction) times the throughput (L_sky 0 at and below the horizon; the uniform sky's
+// radiance, or the CIE overcast sky's Lz (1 + 2 cos theta) / 3 above it), implemented here on
+// its own. Unbiased, not light-sampled: a sky seen through a small window needs many paths.
 //
 // Determinism: the random stream of probe i depends only on (seed, i), so results are
 // identical for any thread count.
@@ -88,8 +95,22 @@ struct McLight {
     DVec3 attenuation{1.0, 0.0, 0.0};
     double radius = 0.0;
     double beam_width = 0.0, cut_off_angle = 0.0;
+    double cone_cos = 1.0;       // directional: cos of the disc's half-angle (1: a point at infinity)
     bool scoped = false;
     std::vector<uint32_t> scope;  // sorted indices into Scene::meshes, when scoped
+};
+
+// The sky as the reference reads it (its own copy of scene/daylight.h's meaning).
+struct McSky {
+    SkyModel model = SkyModel::None;
+    DVec3 radiance{0.0};
+    DVec3 up{0.0, 1.0, 0.0};
+
+    DVec3 arriving(const DVec3& direction) const {
+        const double c = glm::dot(direction, up) / glm::length(up);
+        if (model == SkyModel::None || !(c > 0.0)) return DVec3(0.0);
+        return model == SkyModel::Overcast ? radiance * ((1.0 + 2.0 * c) / 3.0) : radiance;
+    }
 };
 
 // The lights that shine: those switched off, black, or without a direction are left out.
@@ -108,6 +129,8 @@ inline std::vector<McLight> readLights(const Scene& scene) {
         mc.radius = light.radius;
         mc.beam_width = light.beam_width;
         mc.cut_off_angle = light.cut_off_angle;
+        if (light.type == LightType::Directional && light.angular_diameter > 0.0f)
+            mc.cone_cos = std::cos(0.5 * std::min(double(light.angular_diameter), 0.99 * kPi));
         mc.scoped = light.scoped;
         mc.scope = light.scope;
         lights.push_back(std::move(mc));
@@ -155,6 +178,7 @@ public:
         }
         extent_ = triangles_.empty() ? 0.0 : glm::length(hi - lo);
         lights_ = readLights(scene);
+        sky_ = McSky{scene.sky.model, DVec3(scene.sky.radiance), DVec3(scene.sky.up)};
         order_.resize(triangles_.size());
         for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
         if (!triangles_.empty()) build(0, static_cast<uint32_t>(order_.size()));
@@ -162,6 +186,8 @@ public:
 
     const std::vector<McTriangle>& triangles() const { return triangles_; }
     const std::vector<McLight>& lights() const { return lights_; }
+    const McSky& sky() const { return sky_; }
+    bool lit() const { return !lights_.empty() || sky_.model != SkyModel::None; }
     double extent() const { return extent_; }
     // How far a path's origin is pushed off the surface it leaves, along that surface's
     // normal: 1e-6 x the scene's diagonal, 16x the float rounding of stored vertices (~6e-8
@@ -303,6 +329,7 @@ private:
 
     std::vector<McTriangle> triangles_;
     std::vector<McLight> lights_;
+    McSky sky_;
     std::vector<uint32_t> order_;
     std::vector<Node> nodes_;
     double extent_ = 0.0;
@@ -429,7 +456,21 @@ inline bool segmentClear(const McBvh& bvh, const DVec3& x, const DVec3& w, doubl
 // Irradiance at x (unit normal n) from one punctual light, with its shadow segment: exact,
 // since a delta light has no area to sample.
 inline DVec3 lightDirect(const McBvh& bvh, const McLight& light, const DVec3& x, const DVec3& n, uint32_t skip,
-                         uint64_t& rays) {
+                         McRandom& random, uint64_t& rays) {
+    if (light.type == LightType::Directional && light.cone_cos < 1.0) {
+        // A direction uniform in the cone about -axis: pdf 1 / (2 pi (1 - cos a)); L_sun times
+        // cos_x over that pdf is E 2 / (1 + cos a) cos_x.
+        const double cos_t = 1.0 - random.uniform() * (1.0 - light.cone_cos), phi = 2.0 * kPi * random.uniform();
+        const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+        const DVec3 w0 = -light.axis;
+        const DVec3 helper = std::abs(w0.x) > 0.9 ? DVec3(0, 1, 0) : DVec3(1, 0, 0);
+        const DVec3 e1 = glm::normalize(glm::cross(helper, w0)), e2 = glm::cross(w0, e1);
+        const DVec3 w = glm::normalize(w0 * cos_t + (e1 * std::cos(phi) + e2 * std::sin(phi)) * sin_t);
+        const double cos_x = glm::dot(n, w);
+        if (!(cos_x > 0.0)) return DVec3(0.0);
+        const bool lit = segmentClear(bvh, x, w, std::numeric_limits<double>::infinity(), skip, rays);
+        return lit ? light.strength * (2.0 / (1.0 + light.cone_cos) * cos_x) : DVec3(0.0);
+    }
     if (light.type == LightType::Directional) {
         const double cos_x = -glm::dot(n, light.axis);
         if (!(cos_x > 0.0)) return DVec3(0.0);
@@ -458,12 +499,12 @@ inline constexpr uint32_t kMcAnyMesh = std::numeric_limits<uint32_t>::max();
 
 // Direct irradiance at x on `mesh` from every punctual light that lights that mesh.
 inline DVec3 punctualDirect(const McBvh& bvh, const DVec3& x, const DVec3& n, uint32_t skip, uint32_t mesh,
-                            uint64_t& rays) {
+                            McRandom& random, uint64_t& rays) {
     DVec3 sum(0.0);
     for (const McLight& light : bvh.lights()) {
         const bool in_scope = mesh == kMcAnyMesh || !light.scoped ||
                               std::binary_search(light.scope.begin(), light.scope.end(), mesh);
-        if (in_scope) sum += lightDirect(bvh, light, x, n, skip, rays);
+        if (in_scope) sum += lightDirect(bvh, light, x, n, skip, random, rays);
     }
     return sum;
 }
@@ -475,16 +516,19 @@ inline DVec3 tracePathNee(const McBvh& bvh, const McEmitters& emitters, const DV
     DVec3 origin = p + n * eps, normal = n;
     uint32_t skip = std::numeric_limits<uint32_t>::max(), mesh = kMcAnyMesh;
     DVec3 throughput(1.0), sum(0.0);
-    if (emitters.empty() && bvh.lights().empty()) return sum;
+    if (emitters.empty() && !bvh.lit()) return sum;
     for (int bounce = 0; bounce <= max_bounces; ++bounce) {
         // The vertex's direct irradiance; times the throughput, which holds this vertex's rho,
         // that is its share of the radiance reflected back along the path.
         if (!emitters.empty()) sum += throughput * sampleDirect(bvh, emitters, origin, normal, skip, random, rays);
-        sum += throughput * punctualDirect(bvh, origin, normal, skip, mesh, rays);
+        sum += throughput * punctualDirect(bvh, origin, normal, skip, mesh, random, rays);
         McHit hit;
         ++rays;
         const DVec3 dir = cosineDirection(normal, random);
-        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) break;
+        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) {
+            sum += throughput * (kPi * bvh.sky().arriving(dir));  // left the scene: the sky (pdf cos / pi)
+            break;
+        }
         const McTriangle& tri = bvh.triangles()[hit.triangle];
         const auto [hit_normal, cos_y] = faceMet(tri, dir);
         if (cos_y <= 0.0) break;  // back face: black, absorbs
@@ -512,11 +556,14 @@ inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRando
     uint32_t skip = std::numeric_limits<uint32_t>::max();
     DVec3 throughput(1.0);
     // Punctual lights cannot be hit by chance: they are always light-sampled, here too.
-    DVec3 sum = punctualDirect(bvh, origin, n, skip, kMcAnyMesh, rays);
+    DVec3 sum = punctualDirect(bvh, origin, n, skip, kMcAnyMesh, random, rays);
     for (int bounce = 0; bounce <= max_bounces; ++bounce) {
         McHit hit;
         ++rays;
-        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) break;
+        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) {
+            sum += throughput * (kPi * bvh.sky().arriving(dir));
+            break;
+        }
         const McTriangle& tri = bvh.triangles()[hit.triangle];
         const auto [hit_normal, cos_y] = faceMet(tri, dir);
         if (cos_y <= 0.0) break;  // back face: black, absorbs
@@ -526,7 +573,7 @@ inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRando
         throughput *= tri.reflectance / q;
         origin = origin + dir * hit.t + hit_normal * eps;
         skip = hit.triangle;
-        sum += throughput * punctualDirect(bvh, origin, hit_normal, skip, tri.mesh, rays);
+        sum += throughput * punctualDirect(bvh, origin, hit_normal, skip, tri.mesh, random, rays);
         dir = cosineDirection(hit_normal, random);
     }
     return sum;

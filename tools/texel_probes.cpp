@@ -98,6 +98,7 @@ void addOptions(CLI::App& app, Args& args) {
         ->check(CLI::IsMember({"draft", "medium", "high", "reference"}))
         ->capture_default_str();
     cli::addSceneScaleOptions(app, args.import);
+    cli::addDaylightOptions(app, args.import.daylight);
     cli::addReadRootOption(app, args.import);
     cli::addLightmapLayoutOptions(app, args.lightmaps, args.lightmap_scales);
 }

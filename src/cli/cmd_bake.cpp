@@ -237,6 +237,7 @@ void addBakeCommand(CLI::App& app, int& result) {
                     "textures, probes)")
         ->check(nonEmptyPath());
     addSceneScaleOptions(*cmd, args->import);
+    addDaylightOptions(*cmd, args->import.daylight);
     addReadRootOption(*cmd, args->import);
 
     args->error_threshold_option =

@@ -87,6 +87,50 @@ void addSceneScaleOptions(CLI::App& command, ImportOptions& import) {
         ->capture_default_str();
 }
 
+void addDaylightOptions(CLI::App& command, DaylightOptions& daylight) {
+    command
+        .add_option_function<std::string>(
+            "--sky", [&daylight](const std::string& text) { daylight.sky = *parseSkyModel(text); },
+            "Light the scene by a sky at infinity, black below the horizon: uniform (radiance --sky-radiance "
+            "everywhere), overcast (the CIE overcast sky, --sky-radiance at the zenith, a third of it at the "
+            "horizon) or none")
+        ->check(CLI::IsMember({"none", "uniform", "overcast"}))
+        ->default_str("none")
+        ->type_name("MODEL");
+    command.add_option("--sky-radiance", daylight.sky_radiance,
+                       "The uniform sky's radiance, the overcast sky's zenith radiance, in W sr^-1 m^-2")
+        ->check(nonNegativeReal(1e9))
+        ->capture_default_str();
+    command
+        .add_option_function<std::string>(
+            "--up", [&daylight](const std::string& text) { daylight.up = *parseUpAxis(text); },
+            "The axis the sky and the sun are oriented by (the geometry is not moved)")
+        ->check(CLI::IsMember({"+x", "-x", "+y", "-y", "+z", "-z"}))
+        ->default_str("+y")
+        ->type_name("AXIS");
+    command
+        .add_option_function<std::string>(
+            "--sun", [&daylight](const std::string& text) { daylight.sun = parseSunPosition(text); },
+            "A sun at AZIMUTH,ELEVATION degrees: elevation above the horizon, azimuth about --up from +x "
+            "towards +z for +y (README: every up axis)")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                return parseSunPosition(text) ? std::string()
+                                              : "'" + text + "' is not AZIMUTH,ELEVATION in degrees "
+                                                             "(finite, elevation in [-90, 90])";
+            },
+            ""))
+        ->type_name("AZ,EL");
+    command
+        .add_option("--sun-irradiance", daylight.sun_irradiance, "The sun's irradiance on a plane facing it, W/m^2")
+        ->check(nonNegativeReal(1e9))
+        ->capture_default_str();
+    command.add_option("--sun-diameter", daylight.sun_diameter_degrees,
+                       "The sun's angular diameter in degrees (its shadows' penumbrae); 0: hard shadows")
+        ->check(realIn(0.0, 90.0))
+        ->capture_default_str();
+}
+
 void addReadRootOption(CLI::App& command, ImportOptions& import) {
     command
         .add_option("--read-root", import.read_roots,

@@ -29,6 +29,10 @@ CLI::Validator nonEmptyPath();
 // --unit-scale and --emission-scale, as `bake` and `info` both read a scene.
 void addSceneScaleOptions(CLI::App& command, ImportOptions& import);
 
+// --sky, --sky-radiance, --up, --sun, --sun-irradiance, --sun-diameter: daylight the scene file
+// does not hold (scene/daylight.h).
+void addDaylightOptions(CLI::App& command, DaylightOptions& daylight);
+
 // --read-root DIR (repeatable): a folder the scene may read files under besides its own.
 void addReadRootOption(CLI::App& command, ImportOptions& import);
 

@@ -9,6 +9,7 @@
 #include "io/assimp/assimp_reader.h"
 #include "io/vrml/vrml_reader.h"
 #include "scene/creases.h"
+#include "scene/daylight.h"
 #include "scene/textures.h"
 #include "scene/validate.h"
 
@@ -75,6 +76,10 @@ std::optional<Scene> importPhases(const std::string& path, const ImportOptions& 
         diagnostics.error({}, "--emission-scale must be a non-negative finite number");
         return std::nullopt;
     }
+    if (const std::string problem = checkDaylight(options.daylight); !problem.empty()) {
+        diagnostics.error({}, problem);
+        return std::nullopt;
+    }
 
     Scene scene;
     scene.source_path = path;
@@ -106,6 +111,7 @@ std::optional<Scene> importPhases(const std::string& path, const ImportOptions& 
             scene.input_files.push_back(normal);
     }
     applyScales(scene, options);
+    addDaylight(scene, options.daylight);  // after the scales: --emission-scale is the file's emitters only
     // After the emission scale (a textured emission is the scaled colour times the texture),
     // before validation (which clamps textured reflectance as it does the materials').
     phase = "reading textures";

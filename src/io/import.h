@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/read_policy.h"
+#include "scene/daylight.h"
 #include "scene/scene.h"
 
 namespace radbake {
@@ -12,6 +13,9 @@ namespace radbake {
 struct ImportOptions {
     float unit_scale = 1.0f;      // scene units -> metres
     float emission_scale = 1.0f;  // multiplies every emitted radiance
+    // A sky and a sun the file does not hold (--sky, --sun, ...): added to the scene after the
+    // scales, so --emission-scale does not touch them.
+    DaylightOptions daylight;
     bool strict = false;          // unknown nodes and fields are errors, not warnings
     // Folders the scene may read files under besides its own (--read-root): an Inline, a
     // texture, an MTL or a glTF buffer anywhere else is refused with a warning, as missing.

@@ -34,9 +34,9 @@ bool checkBakeable(const Scene& scene, Diagnostics& diagnostics) {
     const bool emits = std::any_of(scene.meshes.begin(), scene.meshes.end(), [&](const Mesh& m) {
         return !m.triangles.empty() && m.material < scene.materials.size() && scene.materials[m.material].isEmitter();
     });
-    if (!emits && scene.lights.empty())
+    if (!emits && scene.lights.empty() && !scene.sky.shines())
         diagnostics.warning(where, "the scene has no emissive surface and no light: every baked value will be 0 "
-                                   "(VRML's headlight is not baked)");
+                                   "(VRML's headlight is not baked; --sky and --sun add daylight)");
     return true;
 }
 

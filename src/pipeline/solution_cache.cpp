@@ -103,7 +103,9 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
         k.add(l.type), k.add(l.position), k.add(l.direction), k.add(l.color), k.add(l.intensity);
         k.add(l.attenuation), k.add(l.radius), k.add(l.beam_width), k.add(l.cut_off_angle), k.add(l.on);
         k.add(l.scoped), k.addAll(l.scope);
+        if (l.angular_diameter != 0.0f) k.add(l.angular_diameter);  // only where set: other keys keep their bytes
     }
+    if (scene.sky.model != SkyModel::None) k.add(scene.sky.model), k.add(scene.sky.radiance), k.add(scene.sky.up);
     // Every solver knob but max_memory_mb (a budget stops a solve, it does not change it); the
     // read-out's knobs (ReadoutOptions) are not the solver's, so changing them reuses the solution.
     k.add(o.visibility), k.add(o.quality), k.add(o.error_threshold), k.add(o.min_element_area);

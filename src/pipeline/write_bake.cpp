@@ -44,6 +44,22 @@ std::vector<std::pair<std::string, std::string>> provenance(const Bake& bake) {
             {"radbake:inputs_sha256", bake.inputs_sha256},
             {"radbake:inputs", std::to_string(bake.scene ? bake.scene->input_files.size() : 0)},
             {"radbake:options", knobs}};
+    // Daylight changes every value; recorded only when given, so other EXRs keep their bytes.
+    const DaylightOptions& daylight = o.import.daylight;
+    if (daylight.any()) {
+        char sky[256];
+        std::snprintf(sky, sizeof sky, "sky=%s sky_radiance=%g up=%s", skyModelName(daylight.sky),
+                      daylight.sky_radiance, upAxisName(daylight.up).c_str());
+        std::string text = sky;
+        if (daylight.sun) {
+            char sun[192];
+            std::snprintf(sun, sizeof sun, " sun=%g,%g sun_irradiance=%g sun_diameter=%g",
+                          daylight.sun->azimuth_degrees, daylight.sun->elevation_degrees, daylight.sun_irradiance,
+                          daylight.sun_diameter_degrees);
+            text += sun;
+        }
+        attributes.emplace_back("radbake:daylight", text);
+    }
     // --lightmap-scales changes the charts, so it belongs to what made the atlas.
     if (!o.lightmaps.scales.empty()) {
         std::string scales;

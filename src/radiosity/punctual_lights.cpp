@@ -19,6 +19,15 @@ double attenuationFactor(const Vec3& attenuation, double distance) {
     return 1.0 / std::max(denominator, 1.0);  // max(.., 1) also catches NaN/negative sums
 }
 
+DVec3 pointAtInfinity(const RayCaster& caster, const DVec3& p_world, const DVec3& direction) {
+    // The scene lies within half its diagonal of its centre, so going that far past p's own
+    // distance from the centre leaves it; the margin clears the end offset.
+    const Aabb bounds = caster.sceneBounds();
+    const double from_centre = bounds.empty() ? 0.0 : glm::length(p_world - bounds.center());
+    const double reach = from_centre + 0.5 * caster.sceneExtent() + 4.0 * caster.epsilon();
+    return p_world + reach * direction;
+}
+
 namespace {
 
 // Per-channel strength, negative values clamped to zero (VRML clamps intensity to [0, 1]; we
@@ -27,14 +36,45 @@ DVec3 strength(const Light& light) {
     return glm::max(DVec3(light.color) * std::max(double(light.intensity), 0.0), DVec3(0.0));
 }
 
-// A point far enough from p_world against the light's direction to be outside every
-// triangle: the scene lies within half its diagonal of its centre, so going that far past
-// p's own distance from the centre leaves it; the margin clears the end offset.
-DVec3 pointTowardsDirectionalLight(const RayCaster& caster, const DVec3& p_world, const DVec3& towards_light) {
-    const Aabb bounds = caster.sceneBounds();
-    const double from_centre = bounds.empty() ? 0.0 : glm::length(p_world - bounds.center());
-    const double reach = from_centre + 0.5 * caster.sceneExtent() + 4.0 * caster.epsilon();
-    return p_world + reach * towards_light;
+// Direct light from a disc at infinity (Light::angular_diameter > 0): E times the mean over
+// points of the disc of the visible cosine, normalised by the mean cosine of a plane facing it,
+// so such a plane unshadowed reads E. Eight points on a ring near its rim first (an edge that
+// leaves them all on one side hides at most 4 % of the disc); where they disagree (a penumbra),
+// 6 x 6 points over the disc.
+DVec3 discIrradiance(const DVec3& power, double angular_diameter, const RayCaster* caster, const DVec3& p_world,
+                     const DVec3& n_world, const DVec3& towards_light, size_t* rays_cast) {
+    const DVec3 helper = std::abs(towards_light.x) > 0.9 ? DVec3(0, 1, 0) : DVec3(1, 0, 0);
+    const DVec3 e1 = glm::normalize(glm::cross(helper, towards_light)), e2 = glm::cross(towards_light, e1);
+    const double spread = std::tan(0.5 * std::min(angular_diameter, 0.99 * kPi));
+    double sum = 0.0, facing = 0.0;
+    int seen = 0, tried = 0;
+    auto add = [&](double r, double phi) {
+        const DVec3 d = glm::normalize(towards_light + spread * r * (std::cos(phi) * e1 + std::sin(phi) * e2));
+        facing += glm::dot(d, towards_light);
+        const double cosine = glm::dot(n_world, d);
+        if (!(cosine > 0.0)) return;
+        ++tried;
+        if (caster) {
+            if (rays_cast) ++*rays_cast;
+            if (caster->segmentBlocked(p_world, pointAtInfinity(*caster, p_world, d))) return;
+        }
+        sum += cosine, ++seen;
+    };
+    constexpr int kRing = 8;
+    for (int k = 0; k < kRing; ++k) add(0.9, (k + 0.5) * 2.0 * kPi / kRing);
+    if (seen != 0 && seen != tried) {
+        // Cell centres of a 6 x 6 grid on the square, mapped onto the disc by Shirley and Chiu's
+        // concentric map (equal areas).
+        constexpr int kGrid = 6;
+        sum = facing = 0.0;
+        for (int i = 0; i < kGrid; ++i)
+            for (int j = 0; j < kGrid; ++j) {
+                const double a = 2.0 * (i + 0.5) / kGrid - 1.0, b = 2.0 * (j + 0.5) / kGrid - 1.0;
+                if (std::abs(a) > std::abs(b)) add(a, 0.25 * kPi * (b / a));
+                else add(b, 0.5 * kPi - 0.25 * kPi * (a / b));
+            }
+    }
+    return facing > 0.0 ? power * (sum / facing) : DVec3(0.0);
 }
 
 }  // namespace
@@ -51,10 +91,12 @@ DVec3 lightIrradiance(const Light& light, const RayCaster* caster, const DVec3& 
         if (!(length > 0.0)) return DVec3(0.0);
         const DVec3 towards_light = -direction / length;
         const double cos_theta = glm::dot(n_world, towards_light);
+        if (light.angular_diameter > 0.0f && cos_theta > -std::sin(0.5 * double(light.angular_diameter)))
+            return discIrradiance(power, light.angular_diameter, caster, p_world, n_world, towards_light, rays_cast);
         if (!(cos_theta > 0.0)) return DVec3(0.0);
         if (caster) {
             if (rays_cast) ++*rays_cast;
-            if (caster->segmentBlocked(p_world, pointTowardsDirectionalLight(*caster, p_world, towards_light)))
+            if (caster->segmentBlocked(p_world, pointAtInfinity(*caster, p_world, towards_light)))
                 return DVec3(0.0);
         }
         return power * cos_theta;

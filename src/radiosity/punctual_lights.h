@@ -11,7 +11,8 @@
 //     with VRML's attenuation factor 1 / max(a0 + a1 d + a2 d^2, 1) (1 for the default
 //     attenuation 1 0 0: the inverse-square law is always applied), zero beyond `radius`.
 //   - DirectionalLight: E = intensity * color is the irradiance, in W/m^2, on a surface facing
-//     the light; H = E cos(theta).
+//     the light; H = E cos(theta). One with an angular diameter (the sun, scene/daylight.h) is a
+//     disc: H is E times the visible share of its cosine-weighted disc, with penumbrae.
 // `ambientIntensity` is ignored: the radiosity solution supplies the indirect light that
 // VRML's ambient term imitates. A scoped light (Light::scope: a VRML97 DirectionalLight lights
 // only its siblings) lights only the meshes of its scope directly; what they reflect reaches
@@ -30,6 +31,10 @@ class RayCaster;
 // beam_width, 0 at or beyond cut_off_angle, linear in the angle between. A beam_width larger
 // than the cut-off counts as equal to it (VRML97 6.45).
 double spotFactor(double angle, double beam_width, double cut_off_angle);
+
+// A point along unit `direction` from p_world beyond every triangle of the caster's scene: the
+// far end of a shadow segment towards a light at infinity.
+DVec3 pointAtInfinity(const RayCaster& caster, const DVec3& p_world, const DVec3& direction);
 
 // VRML97 attenuation factor 1 / max(a0 + a1 d + a2 d^2, 1).
 double attenuationFactor(const Vec3& attenuation, double distance);

@@ -9,8 +9,8 @@
 #include "geometry/parts.h"
 #include "radiosity/cluster.h"
 #include "radiosity/elements.h"
+#include "radiosity/sky_light.h"
 #include "radiosity/form_factor.h"
-#include "radiosity/punctual_lights.h"
 #include "visibility/occlusion.h"
 #include "visibility/ray_caster.h"
 
@@ -276,7 +276,7 @@ void computeDirectLight(RefineState& state) {
     const Scene& scene = state.scene;
     // Own emission first (every element, cheap).
     auto own = [&](const Element& e) { return kPi * DVec3(polygonEmission(scene, scene.meshes[e.mesh], e.polygon)); };
-    const bool lights = !scene.lights.empty();
+    const bool lights = hasDirectLight(scene);
     for (int pass = 0; pass < 64; ++pass) {
         state.direct_done.resize(s.elements.size(), 0);
         state.direct.resize(s.elements.size(), DVec3(0.0));
@@ -294,7 +294,7 @@ void computeDirectLight(RefineState& state) {
                 const auto points = stratifiedPolygonPoints(poly.vertices, 3);
                 DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
                 for (const DVec3& p : points) {
-                    const DVec3 h = punctualIrradiance(scene.lights, s.rays.get(), p, e.normal, &rays[k], e.mesh);
+                    const DVec3 h = directIrradiance(scene, s.rays.get(), p, e.normal, kSolveSkyQuadrature, &rays[k], e.mesh);
                     sum += h;
                     lo = glm::min(lo, h);
                     hi = glm::max(hi, h);

@@ -118,10 +118,10 @@ struct Solution {
 };
 
 // Whether any light is in the scene: an element emits (its emission holds the punctual
-// lights' reflected direct light too) or a punctual light can reach a probe. Without it every
+// lights' and the sky's reflected direct light too) or a punctual light or the sky can reach a probe. Without it every
 // reading is 0, and the read-out skips its gather.
 inline bool carriesLight(const Solution& s) {
-    if (s.scene != nullptr && !s.scene->lights.empty()) return true;
+    if (s.scene != nullptr && (!s.scene->lights.empty() || s.scene->sky.shines())) return true;
     for (const Element& e : s.elements)
         if (e.emission.x > 0.0 || e.emission.y > 0.0 || e.emission.z > 0.0) return true;
     return false;

@@ -98,7 +98,8 @@ DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DV
                .counters = counters,
                .use_rays = solution.rays != nullptr};
     for (uint32_t r = 0; r < solution.root_count; ++r) g.visit(r);
-    return g.sum + gather::punctualInside(solution, receiver_mesh, receiver_triangle, point_on_surface, normal);
+    return g.sum +
+           gather::punctualInside(solution, receiver_mesh, receiver_triangle, point_on_surface, normal, options.sky);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "readout/evaluate_probe.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/punctual_lights.h"
+#include "radiosity/sky_light.h"
 #include "radiosity/refine.h"
 #include "radiosity/solution.h"
 #include "visibility/ray_caster.h"
@@ -442,7 +443,7 @@ inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point,
     return point + lift * direction;
 }
 
-// Punctual lights' direct light at a point on triangle `triangle` of Scene::meshes[mesh]
+// Punctual lights' and the sky's direct light at a point on triangle `triangle` of Scene::meshes[mesh]
 // (punctual_lights.h), its shadow rays cast from kPunctualLifts lifts into its polygon where the
 // point lies on the polygon's outline (intoPolygon) and off the face: the limit from inside the face,
 // as a vertex's value is. From the point itself a ray leaving through a surface the point lies
@@ -451,15 +452,15 @@ inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point,
 // the edge correction the floor beside it.
 inline constexpr double kPunctualLifts = 4.0;
 inline DVec3 punctualInside(const Solution& solution, uint32_t mesh, uint32_t triangle, const DVec3& point,
-                            const DVec3& normal) {
+                            const DVec3& normal, const SkyQuadrature& sky) {
     const Scene* scene = solution.scene;
-    if (!scene || scene->lights.empty()) return DVec3(0.0);
+    if (!scene || !hasDirectLight(*scene)) return DVec3(0.0);
     DVec3 from = point;
     if (mesh < scene->meshes.size() && triangle < scene->meshes[mesh].triangles.size()) {
         const double step = kPunctualLifts * kLift * solution.scene_extent;
         from = point + step * (intoPolygon(scene->meshes[mesh], triangle, normal, point, step) + normal);
     }
-    return punctualIrradiance(scene->lights, solution.rays.get(), from, normal, nullptr, mesh);
+    return directIrradiance(*scene, solution.rays.get(), from, normal, sky, nullptr, mesh);
 }
 
 }  // namespace gather

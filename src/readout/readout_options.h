@@ -2,6 +2,7 @@
 // The read-out's knobs: how the light at a point (vertex, texel, probe) is read from a solved
 // hierarchy. None of them changes the solution, so none is in the saved solution's key
 // (pipeline/solution_cache.h): changing one reuses a saved solve.
+#include "radiosity/sky_light.h"
 #include "radiosity/solver_options.h"
 
 namespace radbake {
@@ -51,6 +52,9 @@ struct ReadoutOptions {
     // Shared at draft (a room's edges and corners, at about draft's cost), On above: Shared
     // leaves a block's feet on a floor uncorrected (docs/results.md has the figures).
     EdgeCorrection edge_correction = EdgeCorrection::On;
+    // The sky's quadrature at a point (radiosity/sky_light.h): the top grid sets the smallest
+    // window sure to be seen. Draft (4, 2), medium (6, 3), high (8, 3), reference (12, 4).
+    SkyQuadrature sky{6, 3};
 
     static ReadoutOptions forQuality(Quality quality);  // fills every knob from a preset
 };

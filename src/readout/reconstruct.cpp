@@ -361,7 +361,9 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     const uint32_t leaf = readingLeaf(mesh, triangle, p_world, normal);
     DVec3 h(0.0);
     if (leaf == kNoElement) h = surfaceIrradiance(s, o_, p_world, normal, mesh, triangle, &c);
-    else h = evaluateLeaf(leaf, p_world, normal, &c, edges) + gather::punctualInside(s, mesh, triangle, p_world, normal);
+    else
+        h = evaluateLeaf(leaf, p_world, normal, &c, edges) +
+            gather::punctualInside(s, mesh, triangle, p_world, normal, o_.sky);
     tally(c, 1);
     if (counters) {
         counters->rays += c.rays;

@@ -97,6 +97,9 @@ struct Light {
     float beam_width = 1.570796f;        // radians (Spot)
     float cut_off_angle = 0.785398f;     // radians (Spot)
     bool on = true;
+    // Directional only: the angle (radians) the source subtends, a disc (the sun: 0.53 degrees),
+    // which gives shadows penumbrae; 0, a point at infinity (VRML's DirectionalLight).
+    float angular_diameter = 0.0f;
     // The meshes the light reaches, sorted, when `scoped`: a VRML97 DirectionalLight lights
     // only its siblings and their descendants (ISO/IEC 14772-1, DirectionalLight), a VRML 1.0
     // light what follows it in its Separator. Not scoped: every mesh (VRML97 PointLight and
@@ -106,6 +109,21 @@ struct Light {
     SourceLocation location;
 
     bool lights(uint32_t mesh) const;
+};
+
+// Light from every direction above the horizon, at infinity (scene/daylight.h: its radiance by
+// direction). Below the horizon (the plane through each receiver normal to `up`) it is black.
+enum class SkyModel { None, Uniform, Overcast };
+
+struct Sky {
+    SkyModel model = SkyModel::None;
+    // W sr^-1 m^-2 per channel: the uniform sky's radiance, the overcast sky's at the zenith.
+    Vec3 radiance{1.0f};
+    Vec3 up{0.0f, 1.0f, 0.0f};  // unit, world
+
+    bool shines() const {
+        return model != SkyModel::None && (radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f);
+    }
 };
 
 struct Camera {
@@ -129,6 +147,7 @@ struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Material> materials;
     std::vector<Light> lights;
+    Sky sky;  // none from a file: set by the import's daylight options (scene/daylight.h)
     std::vector<Camera> cameras;
     // Every file the import read, the scene file first, each once (Inline'd and EXTERNPROTO
     // files, MTL files, ...): what a depfile names and what provenance hashes.

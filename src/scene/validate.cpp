@@ -107,7 +107,8 @@ bool validateLight(const Light& light, size_t index, Diagnostics& diagnostics) {
     // An unbounded radius is legitimate (formats without a light range); NaN is not.
     const bool ok = isFinite(light.position) && isFinite(light.direction) && isFinite(light.color) &&
                     finite(light.intensity) && finite(light.ambient_intensity) && isFinite(light.attenuation) &&
-                    !std::isnan(light.radius) && finite(light.beam_width) && finite(light.cut_off_angle);
+                    !std::isnan(light.radius) && finite(light.beam_width) && finite(light.cut_off_angle) &&
+                    finite(light.angular_diameter);
     if (!ok)
         diagnostics.error(light.location,
                           std::string(lightKind(light.type)) + " #" + std::to_string(index) + " has a non-finite value");
@@ -364,6 +365,10 @@ bool validateScene(Scene& scene, Diagnostics& diagnostics, double max_memory_mb)
     for (size_t i = 0; i < scene.materials.size(); ++i)
         ok &= validateMaterial(scene.materials[i], i, factor_only[i], diagnostics);
     for (size_t i = 0; i < scene.lights.size(); ++i) ok &= validateLight(scene.lights[i], i, diagnostics);
+    if (scene.sky.model != SkyModel::None && (!isFinite(scene.sky.radiance) || !isFinite(scene.sky.up))) {
+        diagnostics.error({scene.source_path, 0, 0}, "the sky has a non-finite radiance or up axis");
+        ok = false;
+    }
     for (size_t i = 0; i < scene.cameras.size(); ++i) ok &= validateCamera(scene.cameras[i], i, diagnostics);
     for (size_t i = 0; i < scene.meshes.size(); ++i)
         ok &= checkMeshNumbers(scene.meshes[i], i, scene.materials.size(), diagnostics);

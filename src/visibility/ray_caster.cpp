@@ -535,6 +535,11 @@ size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to) co
     return open;
 }
 
+void RayCaster::openFrom(const DVec3& from, std::span<const DVec3> to, std::span<uint8_t> open) const {
+    std::fill(open.begin(), open.end(), uint8_t{0});
+    forOpenFrom(from, to, [&](size_t k) { open[k] = 1; });
+}
+
 size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to, std::span<const double> weight,
                                 double& open_weight) const {
     size_t open = 0;

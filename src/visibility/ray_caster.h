@@ -67,6 +67,10 @@ public:
     size_t countOpenFrom(const DVec3& from, std::span<const DVec3> to, std::span<const double> weight,
                          double& open_weight) const;
 
+    // open[k] = 1 when the segment from -> to[k] is not blocked, else 0 (countOpenFrom's
+    // judgement, the same packets); `open` holds to.size() entries.
+    void openFrom(const DVec3& from, std::span<const DVec3> to, std::span<uint8_t> open) const;
+
     // Back twins (scene/two_sided.h) are not in the structure: their front blocks for both
     // sides. closestHit reports a hit on a two-sided front from behind as the back twin's
     // triangle of the same index (u and v swapped, as its corners 1 and 2 are).

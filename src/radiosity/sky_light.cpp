@@ -1,0 +1,193 @@
+#include "radiosity/sky_light.h"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "radiosity/punctual_lights.h"
+#include "scene/daylight.h"
+#include "visibility/ray_caster.h"
+
+namespace radbake {
+namespace {
+
+// What a sample sees: the sky, something in the way, or nothing (at or below the horizon).
+enum class Seen : uint8_t { Sky, Blocked, Nothing, Unknown };
+
+struct Sample {
+    DVec3 weighted{0.0};  // L V cos theta
+    Seen seen = Seen::Unknown;
+};
+
+// A cell's four samples, at its quarter centres: [i][j], i along u, j along v.
+using Quad = std::array<std::array<Sample, 2>, 2>;
+// What lies across each edge of a cell next to each of its two samples on that edge: [edge][k]
+// for edges u-min, u-max, v-min, v-max, k the sample's index along the edge.
+using Across = std::array<std::array<Seen, 2>, 4>;
+
+class SkyGather {
+public:
+    SkyGather(const Sky& sky, const RayCaster* caster, const DVec3& p, const DVec3& n)
+        : sky_(sky), caster_(caster), p_(p), n_(n) {
+        // The up axis's projection along b: the horizon of a vertical surface then runs along
+        // v = 0 and v = 1/2, cell edges for an even grid.
+        const DVec3 up(sky.up);
+        const DVec3 along = up - glm::dot(up, n) * n;
+        if (glm::length(along) > 1e-6) {
+            b_ = glm::normalize(along);
+        } else {
+            const DVec3 helper = std::abs(n.x) > 0.9 ? DVec3(0, 1, 0) : DVec3(1, 0, 0);
+            b_ = glm::normalize(glm::cross(n, helper));
+        }
+        t_ = glm::cross(b_, n);
+    }
+
+    // The samples at (u[k], v[k]) (u = 1 - cos theta, v = phi / 2 pi), their rays cast together.
+    void sample(std::span<const double> u, std::span<const double> v, std::span<Sample> out) {
+        std::array<DVec3, kBatch> far;
+        std::array<size_t, kBatch> which;
+        std::array<uint8_t, kBatch> open;
+        size_t cast = 0;
+        for (size_t k = 0; k < out.size(); ++k) {
+            const double cos_t = 1.0 - u[k], sin_t = std::sqrt(std::max(0.0, u[k] * (2.0 - u[k])));
+            const double phi = 2.0 * kPi * v[k];
+            const DVec3 d = glm::normalize(t_ * (sin_t * std::cos(phi)) + b_ * (sin_t * std::sin(phi)) + n_ * cos_t);
+            const DVec3 radiance = skyRadiance(sky_, d);
+            if (radiance == DVec3(0.0)) {
+                out[k] = {DVec3(0.0), Seen::Nothing};
+                continue;
+            }
+            out[k] = {radiance * cos_t, Seen::Sky};
+            if (!caster_) continue;
+            far[cast] = pointAtInfinity(*caster_, p_, d);
+            which[cast++] = k;
+            if (cast == kBatch) flush(far, which, open, cast, out);
+        }
+        if (cast > 0) flush(far, which, open, cast, out);
+    }
+
+    Quad quad(double u0, double v0, double size) {
+        const double a = u0 + 0.25 * size, b = u0 + 0.75 * size, c = v0 + 0.25 * size, d = v0 + 0.75 * size;
+        const std::array<double, 4> u{a, a, b, b}, v{c, d, c, d};
+        std::array<Sample, 4> samples;
+        sample(u, v, samples);
+        return {{{samples[0], samples[1]}, {samples[2], samples[3]}}};
+    }
+
+    // The integral of L V cos theta du dv over the cell [u0, u0 + size] x [v0, v0 + size], whose
+    // samples are `q`: the midpoint rule on its quarters where they and the samples across its
+    // edges agree, else the sum over its quarters, each read at its own quarter centres.
+    DVec3 cell(double u0, double v0, double size, const Quad& q, const Across& across, int depth) {
+        const double half = 0.5 * size;
+        if (depth <= 0 || uniform(q, across))
+            return (q[0][0].weighted + q[0][1].weighted + q[1][0].weighted + q[1][1].weighted) * (half * half);
+        // The children's samples first: each child's neighbours inside the cell are its siblings'.
+        Quad child[2][2];
+        for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) child[i][j] = quad(u0 + i * half, v0 + j * half, half);
+        // The samples of the 4 x 4 grid the children make, and what lies beyond it (the cell's own
+        // neighbours, one per half edge).
+        auto at = [&](int a, int b) -> Seen {
+            if (a < 0) return across[0][b / 2];
+            if (a > 3) return across[1][b / 2];
+            if (b < 0) return across[2][a / 2];
+            if (b > 3) return across[3][a / 2];
+            return child[a / 2][b / 2][a % 2][b % 2].seen;
+        };
+        DVec3 sum(0.0);
+        for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) {
+                Across beyond;
+                for (int k = 0; k < 2; ++k) {
+                    beyond[0][k] = at(2 * i - 1, 2 * j + k);
+                    beyond[1][k] = at(2 * i + 2, 2 * j + k);
+                    beyond[2][k] = at(2 * i + k, 2 * j - 1);
+                    beyond[3][k] = at(2 * i + k, 2 * j + 2);
+                }
+                sum += cell(u0 + i * half, v0 + j * half, half, child[i][j], beyond, depth - 1);
+            }
+        return sum;
+    }
+
+    size_t rays = 0;
+
+private:
+    static constexpr size_t kBatch = 16;
+
+    void flush(const std::array<DVec3, kBatch>& far, const std::array<size_t, kBatch>& which,
+               std::array<uint8_t, kBatch>& open, size_t& cast, std::span<Sample> out) {
+        caster_->openFrom(p_, std::span<const DVec3>(far.data(), cast), std::span<uint8_t>(open.data(), cast));
+        for (size_t k = 0; k < cast; ++k)
+            if (!open[k]) out[which[k]] = {DVec3(0.0), Seen::Blocked};
+        rays += cast;
+        cast = 0;
+    }
+
+    static bool uniform(const Quad& q, const Across& across) {
+        const Seen first = q[0][0].seen;
+        for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j)
+                if (q[i][j].seen != first) return false;
+        for (const auto& edge : across)
+            for (const Seen s : edge)
+                if (s != Seen::Unknown && s != first) return false;
+        return true;
+    }
+
+    const Sky& sky_;
+    const RayCaster* caster_;
+    DVec3 p_, n_, t_, b_;
+};
+
+}  // namespace
+
+DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_world, const DVec3& n_world,
+                    const SkyQuadrature& quadrature, size_t* rays_cast) {
+    if (!sky.shines()) return DVec3(0.0);
+    SkyGather gather(sky, caster, p_world, n_world);
+    const int grid = std::max(1, quadrature.grid), samples = 2 * grid;
+    const double size = 1.0 / grid;
+    // Every top cell's samples first, so that a cell whose neighbour's samples differ from its
+    // own is split too (the outline of an opening can run just inside a cell's edge).
+    std::vector<Sample> top(static_cast<size_t>(samples) * samples);
+    std::vector<double> u(top.size()), v(top.size());
+    for (int a = 0; a < samples; ++a)
+        for (int b = 0; b < samples; ++b) {
+            u[a * samples + b] = (a + 0.5) / samples;
+            v[a * samples + b] = (b + 0.5) / samples;
+        }
+    gather.sample(u, v, top);
+    // u = 0 is the zenith, 1 the horizon (nothing beyond either edge); v wraps around.
+    auto seen = [&](int a, int b) {
+        if (a < 0 || a >= samples) return Seen::Unknown;
+        return top[a * samples + (b + samples) % samples].seen;
+    };
+    DVec3 sum(0.0);
+    for (int i = 0; i < grid; ++i)
+        for (int j = 0; j < grid; ++j) {
+            Quad q;
+            Across across;
+            for (int k = 0; k < 2; ++k) {
+                q[k][0] = top[(2 * i + k) * samples + 2 * j];
+                q[k][1] = top[(2 * i + k) * samples + 2 * j + 1];
+                across[0][k] = seen(2 * i - 1, 2 * j + k);
+                across[1][k] = seen(2 * i + 2, 2 * j + k);
+                across[2][k] = seen(2 * i + k, 2 * j - 1);
+                across[3][k] = seen(2 * i + k, 2 * j + 2);
+            }
+            sum += gather.cell(i * size, j * size, size, q, across, quadrature.depth);
+        }
+    if (rays_cast) *rays_cast += gather.rays;
+    // cos theta d omega = 2 pi (1 - u) du dv, and the samples hold L V cos theta.
+    return 2.0 * kPi * sum;
+}
+
+DVec3 directIrradiance(const Scene& scene, const RayCaster* caster, const DVec3& p_world, const DVec3& n_world,
+                       const SkyQuadrature& quadrature, size_t* rays_cast, uint32_t receiver_mesh) {
+    return punctualIrradiance(scene.lights, caster, p_world, n_world, rays_cast, receiver_mesh) +
+           skyIrradiance(scene.sky, caster, p_world, n_world, quadrature, rays_cast);
+}
+
+}  // namespace radbake

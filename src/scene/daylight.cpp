@@ -1,0 +1,129 @@
+#include "scene/daylight.h"
+
+#include <charconv>
+#include <limits>
+#include <cmath>
+
+namespace radbake {
+namespace {
+
+constexpr double kDegree = kPi / 180.0;
+
+// The axis index (0 x, 1 y, 2 z) of a unit axis vector.
+int axisOf(const Vec3& up) { return std::abs(up.x) > 0.5f ? 0 : std::abs(up.y) > 0.5f ? 1 : 2; }
+
+// Azimuth 0 and azimuth 90 about `up` (the orientation convention in daylight.h).
+void horizonAxes(const Vec3& up, DVec3& east, DVec3& north) {
+    const int a = axisOf(up);
+    const int first = a == 0 ? 1 : 0, second = a == 2 ? 1 : 2;
+    const double sign = (up[a] < 0.0f) ? -1.0 : 1.0;
+    east = DVec3(0.0), north = DVec3(0.0);
+    east[first] = 1.0;
+    north[second] = sign;
+}
+
+std::optional<double> parseNumber(std::string_view text) {
+    while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+    while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+    if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+        return std::nullopt;
+    return value;
+}
+
+}  // namespace
+
+std::optional<SkyModel> parseSkyModel(std::string_view text) {
+    if (text == "none") return SkyModel::None;
+    if (text == "uniform") return SkyModel::Uniform;
+    if (text == "overcast") return SkyModel::Overcast;
+    return std::nullopt;
+}
+
+const char* skyModelName(SkyModel model) {
+    switch (model) {
+        case SkyModel::None: return "none";
+        case SkyModel::Uniform: return "uniform";
+        case SkyModel::Overcast: return "overcast";
+    }
+    return "none";
+}
+
+std::optional<Vec3> parseUpAxis(std::string_view text) {
+    if (text.size() != 2 || (text[0] != '+' && text[0] != '-')) return std::nullopt;
+    const float sign = text[0] == '+' ? 1.0f : -1.0f;
+    switch (text[1]) {
+        case 'x': return Vec3(sign, 0.0f, 0.0f);
+        case 'y': return Vec3(0.0f, sign, 0.0f);
+        case 'z': return Vec3(0.0f, 0.0f, sign);
+        default: return std::nullopt;
+    }
+}
+
+std::string upAxisName(const Vec3& up) {
+    const int a = axisOf(up);
+    return std::string(up[a] < 0.0f ? "-" : "+") + "xyz"[a];
+}
+
+std::optional<SunPosition> parseSunPosition(std::string_view text) {
+    const size_t comma = text.find(',');
+    if (comma == std::string_view::npos) return std::nullopt;
+    const std::optional<double> azimuth = parseNumber(text.substr(0, comma));
+    const std::optional<double> elevation = parseNumber(text.substr(comma + 1));
+    if (!azimuth || !elevation || *elevation < -90.0 || *elevation > 90.0) return std::nullopt;
+    return SunPosition{*azimuth, *elevation};
+}
+
+DVec3 sunDirection(const SunPosition& sun, const Vec3& up) {
+    DVec3 east, north;
+    horizonAxes(up, east, north);
+    const double azimuth = sun.azimuth_degrees * kDegree, elevation = sun.elevation_degrees * kDegree;
+    return glm::normalize(std::cos(elevation) * (std::cos(azimuth) * east + std::sin(azimuth) * north) +
+                          std::sin(elevation) * DVec3(up));
+}
+
+std::string checkDaylight(const DaylightOptions& o) {
+    if (!(o.sky_radiance >= 0.0) || !std::isfinite(o.sky_radiance))
+        return "--sky-radiance must be a non-negative finite number";
+    if (!(o.sun_irradiance >= 0.0) || !std::isfinite(o.sun_irradiance))
+        return "--sun-irradiance must be a non-negative finite number";
+    if (!(o.sun_diameter_degrees >= 0.0 && o.sun_diameter_degrees <= 90.0))
+        return "--sun-diameter must be in [0, 90] degrees";
+    if (glm::length(DVec3(o.up)) != 1.0 || std::abs(o.up.x) + std::abs(o.up.y) + std::abs(o.up.z) != 1.0f)
+        return "--up must be one of +x, -x, +y, -y, +z, -z";
+    if (o.sun && (!std::isfinite(o.sun->azimuth_degrees) || !(std::abs(o.sun->elevation_degrees) <= 90.0)))
+        return "--sun needs a finite azimuth and an elevation in [-90, 90] degrees";
+    return {};
+}
+
+void addDaylight(Scene& scene, const DaylightOptions& options) {
+    if (options.sky != SkyModel::None) {
+        scene.sky.model = options.sky;
+        scene.sky.radiance = Vec3(static_cast<float>(options.sky_radiance));
+        scene.sky.up = options.up;
+    }
+    if (options.sun) {
+        Light sun;
+        sun.type = LightType::Directional;
+        sun.direction = Vec3(-sunDirection(*options.sun, options.up));
+        sun.intensity = static_cast<float>(options.sun_irradiance);
+        sun.angular_diameter = static_cast<float>(options.sun_diameter_degrees * kDegree);
+        sun.radius = std::numeric_limits<float>::infinity();
+        scene.lights.push_back(sun);
+    }
+}
+
+DVec3 skyRadiance(const Sky& sky, const DVec3& direction) {
+    const double cos_zenith = glm::dot(direction, DVec3(sky.up));
+    if (!(cos_zenith > 0.0)) return DVec3(0.0);
+    switch (sky.model) {
+        case SkyModel::None: return DVec3(0.0);
+        case SkyModel::Uniform: return DVec3(sky.radiance);
+        case SkyModel::Overcast: return DVec3(sky.radiance) * ((1.0 + 2.0 * cos_zenith) / 3.0);
+    }
+    return DVec3(0.0);
+}
+
+}  // namespace radbake

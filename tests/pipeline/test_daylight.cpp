@@ -1,0 +1,260 @@
+// Daylight (issue 30): a sky and a sun given on the command line light the scene, against closed
+// forms over a black ground (nothing comes from below the horizon).
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "radbake.h"
+#include "../export/temp_files.h"
+
+using namespace radbake;
+using testfs::TempDir;
+
+namespace {
+
+constexpr double kDegree = kPi / 180.0;
+
+std::string material(double rho) {
+    const std::string r = std::to_string(rho);
+    return "appearance Appearance { material Material { diffuseColor " + r + " " + r + " " + r + " } }";
+}
+
+// A quad (corners in order, counter-clockwise seen from its front), one-sided unless `two_sided`.
+std::string quad(const std::vector<DVec3>& corners, double rho, bool two_sided = false) {
+    std::string points;
+    for (const DVec3& c : corners)
+        points += std::to_string(c.x) + " " + std::to_string(c.y) + " " + std::to_string(c.z) + ", ";
+    return "Shape { " + material(rho) + " geometry IndexedFaceSet { solid " + (two_sided ? "FALSE" : "TRUE") +
+           " coord Coordinate { point [ " + points + "] } coordIndex [ 0 1 2 3 -1 ] } }\n";
+}
+
+// A black ground y = 0, x and z in [-50, 50], facing up.
+const std::string kBlackGround = quad({{-50, 0, -50}, {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}}, 0.0);
+
+Bake bakeWith(const TempDir& dir, const std::string& body, const DaylightOptions& daylight,
+              const std::vector<Probe>& probes, Quality quality = Quality::Medium) {
+    BakeOptions options = BakeOptions::forQuality(quality);
+    options.import.daylight = daylight;
+    options.lightmaps.enabled = false;
+    options.probes = probes;
+    options.threading.threads = 2;
+    Progress progress(false);
+    Diagnostics diagnostics;
+    Bake baked = bake(testfs::writeText(dir, "daylight.wrl", "#VRML V2.0 utf8\n" + body), options, progress,
+                      diagnostics);
+    REQUIRE(std::string(toString(baked.status)) == "ok");
+    REQUIRE(baked.probe_irradiance.size() == probes.size());
+    return baked;
+}
+
+Probe probe(const DVec3& position, const DVec3& normal) { return Probe{position, glm::normalize(normal), {}}; }
+
+// Form factor from a point to a parallel rectangle [0, a] x [0, b] at height c over the point,
+// the point under its corner (the standard closed form).
+double cornerFormFactor(double a, double b, double c) {
+    const double x = a / c, y = b / c, sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+    return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * kPi);
+}
+
+void checkWithin(double value, double expected, double relative, const std::string& what) {
+    INFO(what << ": " << value << " against " << expected);
+    CHECK(std::abs(value - expected) <= relative * std::abs(expected));
+}
+
+}  // namespace
+
+TEST_CASE("an open uniform sky over a black ground: pi L on a horizontal receiver, pi L / 2 on a vertical one") {
+    TempDir dir;
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Uniform;
+    daylight.sky_radiance = 2.0;
+    const std::vector<Probe> probes = {probe({0, 0.5, 0}, {0, 1, 0}), probe({0, 0.5, 0}, {1, 0, 0}),
+                                       probe({3, 0.2, -7}, {0, 0, -1}), probe({0, 0.5, 0}, {1, 1, 0})};
+    for (const Quality quality : {Quality::Draft, Quality::Medium, Quality::High}) {
+        const Bake baked = bakeWith(dir, kBlackGround, daylight, probes, quality);
+        INFO("quality " << toString(quality));
+        checkWithin(baked.probe_irradiance[0].x, kPi * 2.0, 0.01, "horizontal");
+        checkWithin(baked.probe_irradiance[1].x, kPi * 2.0 / 2, 0.01, "vertical");
+        checkWithin(baked.probe_irradiance[2].z, kPi * 2.0 / 2, 0.01, "vertical, elsewhere");
+        // Tilted 45 degrees up: pi L (1 + cos 45) / 2.
+        checkWithin(baked.probe_irradiance[3].y, kPi * 2.0 * (1 + std::sqrt(0.5)) / 2, 0.01, "tilted");
+    }
+}
+
+TEST_CASE("the CIE overcast sky: 7 pi Lz / 9 on a horizontal receiver, (pi / 6 + 4 / 9) Lz on a vertical one") {
+    TempDir dir;
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Overcast;
+    daylight.sky_radiance = 3.0;
+    const Bake baked =
+        bakeWith(dir, kBlackGround, daylight, {probe({0, 0.5, 0}, {0, 1, 0}), probe({1, 0.5, 2}, {0, 0, 1})});
+    checkWithin(baked.probe_irradiance[0].x, 7 * kPi / 9 * 3.0, 0.01, "horizontal");
+    checkWithin(baked.probe_irradiance[1].x, (kPi / 6 + 4.0 / 9) * 3.0, 0.01, "vertical");
+}
+
+TEST_CASE("the up axis turns the sky: up +z over a black ground x, y") {
+    TempDir dir;
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Uniform;
+    daylight.up = Vec3(0, 0, 1);
+    const std::string ground = quad({{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}}, 0.0);
+    const Bake baked = bakeWith(dir, ground, daylight, {probe({0, 0, 0.5}, {0, 0, 1}), probe({0, 0, 0.5}, {0, 1, 0})});
+    checkWithin(baked.probe_irradiance[0].x, kPi, 0.01, "horizontal");
+    checkWithin(baked.probe_irradiance[1].x, kPi / 2, 0.01, "vertical");
+}
+
+TEST_CASE("a sun of irradiance E at elevation h: E sin h on open ground, E facing it, its azimuth from +x towards +z") {
+    TempDir dir;
+    const double elevation = 30.0, azimuth = 90.0, e = 2.0;
+    // Towards the sun: azimuth 90 is +z for up +y.
+    const DVec3 towards(0.0, std::sin(elevation * kDegree), std::cos(elevation * kDegree));
+    for (const double diameter : {0.0, 0.53, 5.0}) {
+        DaylightOptions daylight;
+        daylight.sun = SunPosition{azimuth, elevation};
+        daylight.sun_irradiance = e;
+        daylight.sun_diameter_degrees = diameter;
+        INFO("sun diameter " << diameter << " degrees");
+        const Bake baked = bakeWith(dir, kBlackGround, daylight,
+                                    {probe({0, 0.5, 0}, {0, 1, 0}), probe({0, 0.5, 0}, towards),
+                                     probe({0, 0.5, 0}, {1, 0, 0}), probe({0, 0.5, 0}, {0, 0, -1})});
+        checkWithin(baked.probe_irradiance[0].x, e * std::sin(elevation * kDegree), 0.01, "ground");
+        checkWithin(baked.probe_irradiance[1].x, e, 0.01, "facing the sun");
+        // A wall facing +x sees the sun edge on (half its disc at most); one facing away none.
+        CHECK(baked.probe_irradiance[2].x <= e * std::sin(0.5 * diameter * kDegree) + 1e-12);
+        CHECK(baked.probe_irradiance[3].x == 0.0);
+    }
+}
+
+TEST_CASE("a sun's penumbra: half the light on the shadow line of a straight edge") {
+    TempDir dir;
+    // The sun at the zenith over a black plate x in [-5, 0] at y = 1: on the ground at x = 0 the
+    // plate's edge halves the disc, and the cosine is symmetric about it; the penumbra is
+    // 2 tan(1 degree) wide.
+    const std::string plate = quad({{-5, 1, -5}, {0, 1, -5}, {0, 1, 5}, {-5, 1, 5}}, 0.0, true);
+    DaylightOptions daylight;
+    daylight.sun = SunPosition{0.0, 90.0};
+    daylight.sun_irradiance = 1.0;
+    daylight.sun_diameter_degrees = 2.0;
+    const Bake baked = bakeWith(dir, kBlackGround + plate, daylight,
+                                {probe({0, 0.001, 0.3}, {0, 1, 0}), probe({-0.1, 0.001, 0}, {0, 1, 0}),
+                                 probe({0.1, 0.001, 0}, {0, 1, 0}), probe({-0.01, 0.001, 0}, {0, 1, 0})});
+    checkWithin(baked.probe_irradiance[0].x, 0.5, 1e-9, "on the shadow line");
+    CHECK(baked.probe_irradiance[1].x == 0.0);
+    checkWithin(baked.probe_irradiance[2].x, 1.0, 1e-9, "out of the shadow");
+    // In the penumbra: between the two.
+    CHECK(baked.probe_irradiance[3].x > 0.0);
+    CHECK(baked.probe_irradiance[3].x < 0.5);
+}
+
+TEST_CASE("a square opening in a black roof: its form factor times pi L") {
+    TempDir dir;
+    // A black closed room x, z in [-1, 1], y in [0, 1], with a square hole of side 1.2 in its roof.
+    const double h = 0.6;
+    std::string room = kBlackGround;
+    room += quad({{-1, 0, -1}, {-1, 1, -1}, {-1, 1, 1}, {-1, 0, 1}}, 0.0, true);
+    room += quad({{1, 0, -1}, {1, 1, -1}, {1, 1, 1}, {1, 0, 1}}, 0.0, true);
+    room += quad({{-1, 0, -1}, {1, 0, -1}, {1, 1, -1}, {-1, 1, -1}}, 0.0, true);
+    room += quad({{-1, 0, 1}, {1, 0, 1}, {1, 1, 1}, {-1, 1, 1}}, 0.0, true);
+    room += quad({{-1, 1, h}, {1, 1, h}, {1, 1, 1}, {-1, 1, 1}}, 0.0, true);
+    room += quad({{-1, 1, -1}, {1, 1, -1}, {1, 1, -h}, {-1, 1, -h}}, 0.0, true);
+    room += quad({{-1, 1, -h}, {-h, 1, -h}, {-h, 1, h}, {-1, 1, h}}, 0.0, true);
+    room += quad({{h, 1, -h}, {1, 1, -h}, {1, 1, h}, {h, 1, h}}, 0.0, true);
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Uniform;
+    const double y = 0.25;
+    const Bake baked = bakeWith(dir, room, daylight, {probe({0, y, 0}, {0, 1, 0}), probe({0.3, y, 0.2}, {0, 1, 0})});
+    const double c = 1.0 - y;
+    checkWithin(baked.probe_irradiance[0].x, kPi * 4 * cornerFormFactor(h, h, c), 0.01, "under the centre");
+    // Off centre: four corner rectangles around the point's foot.
+    const double x0 = 0.3, z0 = 0.2;
+    const double off = cornerFormFactor(h - x0, h - z0, c) + cornerFormFactor(h + x0, h - z0, c) +
+                       cornerFormFactor(h - x0, h + z0, c) + cornerFormFactor(h + x0, h + z0, c);
+    checkWithin(baked.probe_irradiance[1].x, kPi * off, 0.01, "off centre");
+}
+
+TEST_CASE("a closed box of separate tiled meshes under a sky and a sun is exactly dark inside at every quality") {
+    TempDir dir;
+    // Six two-sided faces of a cube [0, 1]^3, each its own 4 x 4 grid of quads.
+    auto grid = [](const DVec3& origin, const DVec3& du, const DVec3& dv) {
+        std::string points, indices;
+        for (int j = 0; j <= 4; ++j)
+            for (int i = 0; i <= 4; ++i) {
+                const DVec3 p = origin + du * (i / 4.0) + dv * (j / 4.0);
+                points += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + ", ";
+            }
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) {
+                const int a = j * 5 + i;
+                indices += std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 6) + " " +
+                           std::to_string(a + 5) + " -1 ";
+            }
+        return "Shape { " + material(0.6) + " geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ " +
+               points + "] } coordIndex [ " + indices + "] } }\n";
+    };
+    std::string box;
+    box += grid({0, 0, 0}, {1, 0, 0}, {0, 0, 1});
+    box += grid({0, 1, 0}, {1, 0, 0}, {0, 0, 1});
+    box += grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    box += grid({0, 0, 1}, {1, 0, 0}, {0, 1, 0});
+    box += grid({0, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    box += grid({1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Overcast;
+    daylight.sun = SunPosition{30.0, 50.0};
+    const std::vector<Probe> probes = {probe({0.5, 0.5, 0.5}, {0, 1, 0}), probe({0.5, 0.5, 0.5}, {0, -1, 0}),
+                                       probe({0.1, 0.05, 0.9}, {1, 1, -1}), probe({0.5, 1.5, 0.5}, {0, 1, 0})};
+    for (const Quality quality : {Quality::Draft, Quality::Medium, Quality::High, Quality::Reference}) {
+        INFO("quality " << toString(quality));
+        const Bake baked = bakeWith(dir, box, daylight, probes, quality);
+        for (size_t i = 0; i < 3; ++i) CHECK(baked.probe_irradiance[i] == DVec3(0.0));
+        CHECK(baked.probe_irradiance[3].x > 1.0);  // above the box: lit
+        // Every vertex of a side facing into the box is 0; the outside is lit.
+        const Scene& scene = *baked.scene;
+        size_t inside = 0, lit_outside = 0;
+        for (size_t m = 0; m < scene.meshes.size(); ++m) {
+            const Mesh& mesh = scene.meshes[m];
+            const UVec3& t = mesh.triangles.front();
+            const DVec3 a(mesh.positions[t.x]), n = glm::cross(DVec3(mesh.positions[t.y]) - a, DVec3(mesh.positions[t.z]) - a);
+            const bool faces_in = glm::dot(n, DVec3(0.5) - a) > 0.0;
+            for (const Vec3& value : baked.vertices.values[m]) {
+                if (faces_in) {
+                    CHECK(value == Vec3(0.0f));
+                    ++inside;
+                } else {
+                    lit_outside += value.x > 0.0f ? 1 : 0;
+                }
+            }
+        }
+        CHECK(inside == 6 * 25);
+        CHECK(lit_outside > 6 * 20);
+    }
+}
+
+TEST_CASE("daylight options: parsed, checked and named as the README says") {
+    CHECK(parseSkyModel("overcast") == SkyModel::Overcast);
+    CHECK(!parseSkyModel("cloudy"));
+    CHECK(parseUpAxis("-z") == Vec3(0, 0, -1));
+    CHECK(!parseUpAxis("z"));
+    CHECK(upAxisName(Vec3(0, -1, 0)) == "-y");
+    const std::optional<SunPosition> sun = parseSunPosition("135, 20.5");
+    REQUIRE(sun);
+    CHECK(sun->azimuth_degrees == 135.0);
+    CHECK(sun->elevation_degrees == 20.5);
+    CHECK(!parseSunPosition("10,95"));
+    CHECK(!parseSunPosition("nan,10"));
+    CHECK(!parseSunPosition("10"));
+    // Azimuth 0 towards the first axis that is not up, 90 towards the other (negated for a negative up).
+    const auto near = [](const DVec3& a, const DVec3& b) { return glm::length(a - b) < 1e-12; };
+    CHECK(near(sunDirection({0, 0}, Vec3(0, 1, 0)), DVec3(1, 0, 0)));
+    CHECK(near(sunDirection({90, 0}, Vec3(0, 1, 0)), DVec3(0, 0, 1)));
+    CHECK(near(sunDirection({90, 0}, Vec3(0, -1, 0)), DVec3(0, 0, -1)));
+    CHECK(near(sunDirection({90, 0}, Vec3(0, 0, 1)), DVec3(0, 1, 0)));
+    CHECK(near(sunDirection({0, 0}, Vec3(1, 0, 0)), DVec3(0, 1, 0)));
+    CHECK(near(sunDirection({0, 90}, Vec3(0, 0, -1)), DVec3(0, 0, -1)));
+    DaylightOptions bad;
+    bad.sky_radiance = -1;
+    CHECK(!checkDaylight(bad).empty());
+    CHECK(checkDaylight(DaylightOptions{}).empty());
+}
