@@ -16,7 +16,7 @@
 namespace radbake {
 namespace {
 
-constexpr char kMagic[] = "radbake solution 1\n";
+constexpr char kMagic[] = "radbake solution 2\n";
 
 struct Writer {
     std::string bytes;
@@ -105,7 +105,10 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
         k.add(l.scoped), k.addAll(l.scope);
         if (l.angular_diameter != 0.0f) k.add(l.angular_diameter);  // only where set: other keys keep their bytes
     }
-    if (scene.sky.model != SkyModel::None) k.add(scene.sky.model), k.add(scene.sky.radiance), k.add(scene.sky.up);
+    if (scene.sky.model != SkyModel::None) {
+        k.add(scene.sky.model), k.add(scene.sky.radiance), k.add(scene.sky.up);
+        k.add(o.sky.grid), k.add(o.sky.depth);
+    }
     // Every solver knob but max_memory_mb (a budget stops a solve, it does not change it); the
     // read-out's knobs (ReadoutOptions) are not the solver's, so changing them reuses the solution.
     k.add(o.visibility), k.add(o.quality), k.add(o.error_threshold), k.add(o.min_element_area);
@@ -120,6 +123,7 @@ bool saveSolution(const Solution& s, const std::string& key, const std::filesyst
     Writer w;
     w.bytes = std::string(kMagic) + key + "\n";
     w.array(s.vertices);
+    w.array(s.vertex_sky);
     w.array(s.elements);
     w.value(s.root_count);
     w.array(s.links);
@@ -162,6 +166,7 @@ std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& op
     Solution s;
     Reader r{bytes, header.size()};
     r.array(s.vertices);
+    r.array(s.vertex_sky);
     r.array(s.elements);
     r.value(s.root_count);
     r.array(s.links);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -11,6 +12,7 @@
 #include "radiosity/elements.h"
 #include "radiosity/sky_light.h"
 #include "radiosity/form_factor.h"
+#include "radiosity/punctual_lights.h"
 #include "visibility/occlusion.h"
 #include "visibility/ray_caster.h"
 
@@ -271,12 +273,70 @@ RefineState makeRefineState(const Scene& scene, const PartSet& parts, const Solv
     return state;
 }
 
+size_t SkyCornerHash::operator()(const SkyCornerKey& k) const {
+    uint64_t h = 0;
+    for (const DVec3* v : {&k.point, &k.normal})
+        for (int c = 0; c < 3; ++c) h = mixHash(h, std::bit_cast<uint64_t>((*v)[c]));
+    return static_cast<size_t>(h);
+}
+
+namespace {
+
+// The sky at every corner of the elements `todo` (Solution::vertex_sky), each distinct (point,
+// normal) once: elements sharing a corner on one plane share its value, so the light read across
+// their edge is continuous. A corner is read from just inside its element (the first to name it)
+// and off its plane: on a contact line the sky is the limit from inside the face.
+// Returns the rays cast.
+size_t skyAtCorners(RefineState& state, const std::vector<uint32_t>& todo) {
+    Solution& s = state.solution;
+    s.vertex_sky.resize(s.vertices.size(), DVec3(0.0));
+    struct Corner {
+        DVec3 from, normal;
+        std::vector<uint32_t> slots;  // into Solution::vertices
+    };
+    std::vector<Corner> corners;
+    const size_t base = state.sky_values.size();
+    for (const uint32_t i : todo) {
+        const Element& e = s.elements[i];
+        for (uint32_t k = 0; k < e.vertex_count; ++k) {
+            const uint32_t slot = e.first_vertex + k;
+            const DVec3& p = s.vertices[slot];
+            const auto [it, added] =
+                state.sky_corners.try_emplace(SkyCornerKey{p, e.normal}, static_cast<uint32_t>(base + corners.size()));
+            if (added) {
+                const double step = kSkyCornerLifts * s.rays->epsilon();
+                const DVec3 inward = e.centroid - p;
+                const double length = glm::length(inward);
+                corners.push_back({p + step * (e.normal + (length > 0.0 ? inward / length : DVec3(0.0))), e.normal, {}});
+            }
+            if (it->second >= base) corners[it->second - base].slots.push_back(slot);
+            else s.vertex_sky[slot] = state.sky_values[it->second];  // read in an earlier pass
+        }
+    }
+    std::vector<DVec3> value(corners.size());
+    std::vector<size_t> rays(corners.size(), 0);
+    state.runner.forEach(corners.size(), 8, [&](size_t c) {
+        value[c] = skyIrradiance(state.scene.sky, s.rays.get(), corners[c].from, corners[c].normal, state.options.sky,
+                                 &rays[c]);
+    });
+    size_t total = 0;
+    for (size_t c = 0; c < corners.size(); ++c) {
+        for (const uint32_t slot : corners[c].slots) s.vertex_sky[slot] = value[c];
+        state.sky_values.push_back(value[c]);
+        total += rays[c];
+    }
+    return total;
+}
+
+}  // namespace
+
 void computeDirectLight(RefineState& state) {
     Solution& s = state.solution;
     const Scene& scene = state.scene;
     // Own emission first (every element, cheap).
     auto own = [&](const Element& e) { return kPi * DVec3(polygonEmission(scene, scene.meshes[e.mesh], e.polygon)); };
-    const bool lights = hasDirectLight(scene);
+    const bool lights = !scene.lights.empty();
+    const bool direct = lights || scene.sky.shines();
     for (int pass = 0; pass < 64; ++pass) {
         state.direct_done.resize(s.elements.size(), 0);
         state.direct.resize(s.elements.size(), DVec3(0.0));
@@ -294,7 +354,7 @@ void computeDirectLight(RefineState& state) {
                 const auto points = stratifiedPolygonPoints(poly.vertices, 3);
                 DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
                 for (const DVec3& p : points) {
-                    const DVec3 h = directIrradiance(scene, s.rays.get(), p, e.normal, kSolveSkyQuadrature, &rays[k], e.mesh);
+                    const DVec3 h = punctualIrradiance(scene.lights, s.rays.get(), p, e.normal, &rays[k], e.mesh);
                     sum += h;
                     lo = glm::min(lo, h);
                     hi = glm::max(hi, h);
@@ -302,6 +362,19 @@ void computeDirectLight(RefineState& state) {
                 mean[k] = points.empty() ? DVec3(0.0) : sum / static_cast<double>(points.size());
                 spread[k] = points.empty() ? DVec3(0.0) : hi - lo;
             });
+        }
+        if (state.scene.sky.shines()) {
+            s.stats.rays += skyAtCorners(state, todo);
+            for (size_t k = 0; k < todo.size(); ++k) {
+                const Element& e = s.elements[todo[k]];
+                DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
+                for (uint32_t c = 0; c < e.vertex_count; ++c) {
+                    const DVec3& h = s.vertex_sky[e.first_vertex + c];
+                    sum += h, lo = glm::min(lo, h), hi = glm::max(hi, h);
+                }
+                mean[k] += sum / static_cast<double>(e.vertex_count);
+                spread[k] += hi - lo;
+            }
         }
         bool split_any = false;
         for (size_t k = 0; k < todo.size(); ++k) {
@@ -324,7 +397,7 @@ void computeDirectLight(RefineState& state) {
             for (uint32_t i = 0; i < s.root_count; ++i) power += s.elements[i].area * maxChannel(s.elements[i].emission);
             state.threshold = state.options.error_threshold * power;
             // Re-examine the roots' direct light with the threshold now known.
-            if (lights && state.threshold > 0.0) {
+            if (direct && state.threshold > 0.0) {
                 for (uint32_t i = 0; i < s.root_count; ++i) state.direct_done[i] = 0;
                 continue;
             }

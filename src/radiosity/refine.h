@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 #include "core/parallel.h"
@@ -27,6 +28,17 @@ struct LinkRecord {
     uint32_t candidates = kNoList; // its potential occluders (partial links)
 };
 
+// An element corner where the sky was read: its point and its element's normal, bit for bit.
+struct SkyCornerKey {
+    DVec3 point, normal;
+    bool operator==(const SkyCornerKey&) const = default;
+};
+struct SkyCornerHash {
+    size_t operator()(const SkyCornerKey& k) const;
+};
+// Lifts (ray caster epsilons) a corner is read from inside its element and off its plane.
+inline constexpr double kSkyCornerLifts = 4.0;
+
 struct RefineState {
     const Scene& scene;
     const PartSet& parts;
@@ -38,6 +50,9 @@ struct RefineState {
     std::vector<LinkRecord> records{};
     std::vector<uint8_t> direct_done{};                   // per element
     std::vector<DVec3> direct{};                          // per element: mean punctual irradiance (W/m^2)
+    // The sky read at element corners (skyAtCorners): index into sky_values per distinct corner.
+    std::unordered_map<SkyCornerKey, uint32_t, SkyCornerHash> sky_corners{};
+    std::vector<DVec3> sky_values{};
     double threshold = 0.0;  // W: a link may misplace at most this much power
     // Per root, once a solve has linked the roots: the power rule's threshold relative to
     // the power of the root's light-exchange group (below), never above `threshold`.

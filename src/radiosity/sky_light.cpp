@@ -1,12 +1,15 @@
 #include "radiosity/sky_light.h"
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "radiosity/punctual_lights.h"
+#include "radiosity/solution.h"
 #include "scene/daylight.h"
 #include "visibility/ray_caster.h"
 
@@ -32,7 +35,7 @@ public:
     SkyGather(const Sky& sky, const RayCaster* caster, const DVec3& p, const DVec3& n)
         : sky_(sky), caster_(caster), p_(p), n_(n) {
         // The up axis's projection along b: the horizon of a vertical surface then runs along
-        // v = 0 and v = 1/2, cell edges for an even grid.
+        // v = 1/2, a cell edge for an even grid.
         const DVec3 up(sky.up);
         const DVec3 along = up - glm::dot(up, n) * n;
         if (glm::length(along) > 1e-6) {
@@ -44,22 +47,31 @@ public:
         t_ = glm::cross(b_, n);
     }
 
-    // The samples at (u[k], v[k]) (u = 1 - cos theta, v = phi / 2 pi), their rays cast together.
-    void sample(std::span<const double> u, std::span<const double> v, std::span<Sample> out) {
+    // The samples at (u[k], v[k]), their rays cast together: the square onto the unit disc by
+    // Shirley and Chiu's concentric map (equal areas, the normal at the centre), then onto the
+    // hemisphere by the equal-area azimuthal projection (1 - cos theta = r^2), so d omega is
+    // 2 pi du dv: as many samples near the horizon, where a window seen at a grazing angle lies, as
+    // anywhere else.
+    // `side`: the side of the square cell each sample stands for.
+    void sample(std::span<const double> u, std::span<const double> v, double side, std::span<Sample> out) {
         std::array<DVec3, kBatch> far;
         std::array<size_t, kBatch> which;
         std::array<uint8_t, kBatch> open;
         size_t cast = 0;
         for (size_t k = 0; k < out.size(); ++k) {
-            const double cos_t = 1.0 - u[k], sin_t = std::sqrt(std::max(0.0, u[k] * (2.0 - u[k])));
-            const double phi = 2.0 * kPi * v[k];
+            const double a = 2.0 * u[k] - 1.0, b = 2.0 * v[k] - 1.0;
+            double r = 0.0, phi = 0.0;
+            if (std::abs(a) > std::abs(b)) r = a, phi = 0.25 * kPi * (b / a);
+            else if (b != 0.0) r = b, phi = 0.5 * kPi - 0.25 * kPi * (a / b);
+            // r may be negative (the concentric map's other half-plane): sin_t keeps its sign.
+            const double cos_t = 1.0 - r * r, sin_t = r * std::sqrt(std::max(0.0, 2.0 - r * r));
             const DVec3 d = glm::normalize(t_ * (sin_t * std::cos(phi)) + b_ * (sin_t * std::sin(phi)) + n_ * cos_t);
             const DVec3 radiance = skyRadiance(sky_, d);
             if (radiance == DVec3(0.0)) {
                 out[k] = {DVec3(0.0), Seen::Nothing};
                 continue;
             }
-            out[k] = {radiance * cos_t, Seen::Sky};
+            out[k] = {radiance * meanCosine(u[k], v[k], side), Seen::Sky};
             if (!caster_) continue;
             far[cast] = pointAtInfinity(*caster_, p_, d);
             which[cast++] = k;
@@ -72,7 +84,7 @@ public:
         const double a = u0 + 0.25 * size, b = u0 + 0.75 * size, c = v0 + 0.25 * size, d = v0 + 0.75 * size;
         const std::array<double, 4> u{a, a, b, b}, v{c, d, c, d};
         std::array<Sample, 4> samples;
-        sample(u, v, samples);
+        sample(u, v, 0.5 * size, samples);
         return {{{samples[0], samples[1]}, {samples[2], samples[3]}}};
     }
 
@@ -116,6 +128,21 @@ public:
 private:
     static constexpr size_t kBatch = 16;
 
+    // The mean of cos theta = 1 - max(|a|, |b|)^2 over the square cell of side `side` about (u, v)
+    // (a = 2u - 1, b = 2v - 1): 2 x 2 Gauss points, exact for the quadratic on either side of the
+    // diagonals, so an open uniform sky integrates to pi L but for cells astride a diagonal.
+    static double meanCosine(double u, double v, double side) {
+        constexpr double kGauss = 0.2886751345948129;  // 1 / (2 sqrt 3)
+        double sum = 0.0;
+        for (const double du : {-kGauss, kGauss})
+            for (const double dv : {-kGauss, kGauss}) {
+                const double a = 2.0 * (u + du * side) - 1.0, b = 2.0 * (v + dv * side) - 1.0;
+                const double r = std::max(std::abs(a), std::abs(b));
+                sum += 1.0 - r * r;
+            }
+        return 0.25 * sum;
+    }
+
     void flush(const std::array<DVec3, kBatch>& far, const std::array<size_t, kBatch>& which,
                std::array<uint8_t, kBatch>& open, size_t& cast, std::span<Sample> out) {
         caster_->openFrom(p_, std::span<const DVec3>(far.data(), cast), std::span<uint8_t>(open.data(), cast));
@@ -158,11 +185,11 @@ DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_worl
             u[a * samples + b] = (a + 0.5) / samples;
             v[a * samples + b] = (b + 0.5) / samples;
         }
-    gather.sample(u, v, top);
-    // u = 0 is the zenith, 1 the horizon (nothing beyond either edge); v wraps around.
+    gather.sample(u, v, 1.0 / samples, top);
+    // Nothing beyond the square's edges (the horizon).
     auto seen = [&](int a, int b) {
-        if (a < 0 || a >= samples) return Seen::Unknown;
-        return top[a * samples + (b + samples) % samples].seen;
+        if (a < 0 || a >= samples || b < 0 || b >= samples) return Seen::Unknown;
+        return top[a * samples + b].seen;
     };
     DVec3 sum(0.0);
     for (int i = 0; i < grid; ++i)
@@ -180,14 +207,35 @@ DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_worl
             sum += gather.cell(i * size, j * size, size, q, across, quadrature.depth);
         }
     if (rays_cast) *rays_cast += gather.rays;
-    // cos theta d omega = 2 pi (1 - u) du dv, and the samples hold L V cos theta.
-    return 2.0 * kPi * sum;
+    return 2.0 * kPi * sum;  // d omega = 2 pi du dv
 }
 
-DVec3 directIrradiance(const Scene& scene, const RayCaster* caster, const DVec3& p_world, const DVec3& n_world,
-                       const SkyQuadrature& quadrature, size_t* rays_cast, uint32_t receiver_mesh) {
-    return punctualIrradiance(scene.lights, caster, p_world, n_world, rays_cast, receiver_mesh) +
-           skyIrradiance(scene.sky, caster, p_world, n_world, quadrature, rays_cast);
+DVec3 skyInElement(const Solution& solution, uint32_t element, const DVec3& p) {
+    if (solution.vertex_sky.size() != solution.vertices.size() || element >= solution.elements.size())
+        return DVec3(0.0);
+    const Element& e = solution.elements[element];
+    const DVec3* v = solution.vertices.data() + e.first_vertex;
+    const DVec3* h = solution.vertex_sky.data() + e.first_vertex;
+    // The fan triangle (0, k, k + 1) that holds p's projection best (its least barycentric
+    // coordinate the largest), weights clamped to it: a texel's sample point may lie a little
+    // outside its leaf.
+    double best = -std::numeric_limits<double>::infinity();
+    DVec3 value = h[0];
+    for (uint32_t k = 1; k + 1 < e.vertex_count; ++k) {
+        const DVec3 a = v[k] - v[0], b = v[k + 1] - v[0], q = p - v[0];
+        const DVec3 cross = glm::cross(a, b);
+        const double area2 = glm::dot(cross, cross);
+        if (!(area2 > 0.0)) continue;
+        const double wb = glm::dot(glm::cross(a, q), cross) / area2;  // weight of corner k + 1
+        const double wa = glm::dot(glm::cross(q, b), cross) / area2;  // weight of corner k
+        const double w0 = 1.0 - wa - wb;
+        const double least = std::min(w0, std::min(wa, wb));
+        if (least <= best) continue;
+        best = least;
+        const double ca = std::clamp(wa, 0.0, 1.0), cb = std::clamp(wb, 0.0, 1.0), c0 = std::clamp(w0, 0.0, 1.0);
+        value = (h[0] * c0 + h[k] * ca + h[k + 1] * cb) / (c0 + ca + cb);
+    }
+    return value;
 }
 
 }  // namespace radbake

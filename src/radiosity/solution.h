@@ -93,6 +93,9 @@ struct ClusterLink {
 
 struct Solution {
     std::vector<DVec3> vertices;   // element polygon loops
+    // The sky's irradiance at each of `vertices` for its element's normal (W/m^2; radiosity/
+    // sky_light.h), read from just inside the element; empty without a sky.
+    std::vector<DVec3> vertex_sky;
     std::vector<Element> elements; // roots first (root_count of them), children appended
     uint32_t root_count = 0;
     std::vector<Link> links;       // grouped by receiver

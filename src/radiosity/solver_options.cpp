@@ -18,6 +18,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.quadrature_near_ratio = 0.5;
             o.quadrature_max_depth = 1;
             o.visibility_samples = 2;
+            o.sky = {8, 2};
             break;
         case Quality::Medium:
             break;  // the struct's defaults
@@ -32,6 +33,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.quadrature_near_ratio = 1.0;
             o.quadrature_max_depth = 3;
             o.visibility_samples = 4;
+            o.sky = {16, 3};
             break;
         case Quality::Reference:
             o.error_threshold = 1e-5;
@@ -44,6 +46,7 @@ SolverOptions SolverOptions::forQuality(Quality quality) {
             o.quadrature_near_ratio = 1.5;
             o.quadrature_max_depth = 4;
             o.visibility_samples = 6;
+            o.sky = {24, 3};
             break;
     }
     return o;

@@ -45,6 +45,15 @@ enum class Quality { Draft, Medium, High, Reference };
 // The solve scales each leaf's inherited irradiance so its row sum matches the point form
 // factors averaged over it (2 x 2 Gauss points, solve.cpp): the oracle bounds power, not local error, and without
 // this closed scenes at rho = 0.99 drift by tens of percent.
+// The sky's quadrature at a point (radiosity/sky_light.h): grid x grid top cells of four samples
+// each, split into quarters where they disagree, down to `depth` levels. The top samples'
+// spacing, 1 / (2 grid) of the hemisphere's parameter square, sets the smallest opening sure to be
+// seen.
+struct SkyQuadrature {
+    int grid = 12;  // even: a vertical surface's horizon then lies on cell edges
+    int depth = 3;
+};
+
 struct SolverOptions {
     LinkVisibility visibility = LinkVisibility::Aabb;  // the fastest conservative mode on real scenes (docs/scale.md)
     Quality quality = Quality::Medium;
@@ -62,6 +71,8 @@ struct SolverOptions {
     int quadrature_max_depth = 2;      // towards a touching source (the singularity is mild:
                                        // 1e-6 relative on unit squares sharing an edge)
     int visibility_samples = 3;        // rays per side for a partial link (n x n segments)
+    // The sky at every element corner (draft 8, medium 12, high 16, reference 24 top cells a side).
+    SkyQuadrature sky{12, 3};
     double area_exponent = 1.0;        // A_R in the oracle becomes A_total (A_R / A_total)^area_exponent
     // Links start between clusters of roots (cluster.h) instead of between every pair of
     // roots: linking in O(n log n) instead of O(n^2). Off: every facing pair of roots.

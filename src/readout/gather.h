@@ -451,16 +451,19 @@ inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point,
 // start offset (one lift), and the light under the floor reached the wall's foot, and through
 // the edge correction the floor beside it.
 inline constexpr double kPunctualLifts = 4.0;
+// `sky`: the sky's quadrature at the point; null leaves the sky out (a link read takes it from its
+// leaf's corners, skyInElement).
 inline DVec3 punctualInside(const Solution& solution, uint32_t mesh, uint32_t triangle, const DVec3& point,
-                            const DVec3& normal, const SkyQuadrature& sky) {
+                            const DVec3& normal, const SkyQuadrature* sky) {
     const Scene* scene = solution.scene;
-    if (!scene || !hasDirectLight(*scene)) return DVec3(0.0);
+    if (!scene || (scene->lights.empty() && (!sky || !scene->sky.shines()))) return DVec3(0.0);
     DVec3 from = point;
     if (mesh < scene->meshes.size() && triangle < scene->meshes[mesh].triangles.size()) {
         const double step = kPunctualLifts * kLift * solution.scene_extent;
         from = point + step * (intoPolygon(scene->meshes[mesh], triangle, normal, point, step) + normal);
     }
-    return directIrradiance(*scene, solution.rays.get(), from, normal, sky, nullptr, mesh);
+    const DVec3 lights = punctualIrradiance(scene->lights, solution.rays.get(), from, normal, nullptr, mesh);
+    return sky ? lights + skyIrradiance(scene->sky, solution.rays.get(), from, normal, *sky) : lights;
 }
 
 }  // namespace gather

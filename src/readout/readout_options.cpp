@@ -13,7 +13,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_visibility_coarse = 0.2;
             o.edge_correction = EdgeCorrection::Shared;
             o.probe_grazing_corner_rays = false;
-            o.sky = {4, 2};
+            o.sky = {8, 2};
             break;
         case Quality::Medium:
             break;  // the struct's defaults
@@ -25,7 +25,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_corner_rays = true;
             o.probe_coarse_opening = true;
             o.edge_correction = EdgeCorrection::On;
-            o.sky = {8, 3};
+            o.sky = {16, 3};
             break;
         case Quality::Reference:
             o.probe_opening = 0.2;
@@ -35,7 +35,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_corner_rays = true;
             o.probe_coarse_opening = true;
             o.edge_correction = EdgeCorrection::On;
-            o.sky = {12, 4};
+            o.sky = {24, 4};
             break;
     }
     return o;

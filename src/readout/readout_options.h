@@ -52,9 +52,10 @@ struct ReadoutOptions {
     // Shared at draft (a room's edges and corners, at about draft's cost), On above: Shared
     // leaves a block's feet on a floor uncorrected (docs/results.md has the figures).
     EdgeCorrection edge_correction = EdgeCorrection::On;
-    // The sky's quadrature at a point (radiosity/sky_light.h): the top grid sets the smallest
-    // window sure to be seen. Draft (4, 2), medium (6, 3), high (8, 3), reference (12, 4).
-    SkyQuadrature sky{6, 3};
+    // The sky's quadrature at a probe and in the exhaustive gather (radiosity/sky_light.h); vertices
+    // and texels read through the links take the sky the solve found at their leaf's corners.
+    // Draft (8, 2), medium (12, 3), high (16, 3), reference (24, 4).
+    SkyQuadrature sky{12, 3};
 
     static ReadoutOptions forQuality(Quality quality);  // fills every knob from a preset
 };

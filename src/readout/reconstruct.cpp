@@ -363,7 +363,7 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
     if (leaf == kNoElement) h = surfaceIrradiance(s, o_, p_world, normal, mesh, triangle, &c);
     else
         h = evaluateLeaf(leaf, p_world, normal, &c, edges) +
-            gather::punctualInside(s, mesh, triangle, p_world, normal, o_.sky);
+            gather::punctualInside(s, mesh, triangle, p_world, normal, nullptr) + skyInElement(s, leaf, p_world);
     tally(c, 1);
     if (counters) {
         counters->rays += c.rays;

@@ -8,6 +8,7 @@
 
 #include "radbake.h"
 #include "../export/temp_files.h"
+#include "reference_mc.h"
 
 using namespace radbake;
 using testfs::TempDir;
@@ -257,4 +258,54 @@ TEST_CASE("daylight options: parsed, checked and named as the README says") {
     bad.sky_radiance = -1;
     CHECK(!checkDaylight(bad).empty());
     CHECK(checkDaylight(DaylightOptions{}).empty());
+}
+
+TEST_CASE("a room lit by sky and sun through an open window: radbake's probes against reference_mc") {
+    TempDir dir;
+    // A grey room x, z in [0, 4], y in [0, 2.5], faces inwards, one-sided, each wall tiled; a window
+    // z in [1.5, 2.5], y in [0.8, 1.8] in its x = 4 wall.
+    const double rho = 0.6;
+    auto wall = [&](const std::vector<DVec3>& corners) { return quad(corners, rho); };
+    std::string room;
+    for (int i = 0; i < 2; ++i)
+        for (int k = 0; k < 2; ++k) {
+            const double x0 = 2.0 * i, z0 = 2.0 * k;
+            room += wall({{x0, 0, z0}, {x0, 0, z0 + 2}, {x0 + 2, 0, z0 + 2}, {x0 + 2, 0, z0}});          // floor, up
+            room += wall({{x0, 2.5, z0}, {x0 + 2, 2.5, z0}, {x0 + 2, 2.5, z0 + 2}, {x0, 2.5, z0 + 2}});  // ceiling, down
+        }
+    room += wall({{0, 0, 0}, {4, 0, 0}, {4, 2.5, 0}, {0, 2.5, 0}});  // z = 0, facing +z
+    room += wall({{0, 0, 4}, {0, 2.5, 4}, {4, 2.5, 4}, {4, 0, 4}});  // z = 4, facing -z
+    room += wall({{0, 0, 0}, {0, 2.5, 0}, {0, 2.5, 4}, {0, 0, 4}});  // x = 0, facing +x
+    // x = 4, facing -x, around the window.
+    room += wall({{4, 0, 0}, {4, 0, 4}, {4, 0.8, 4}, {4, 0.8, 0}});
+    room += wall({{4, 1.8, 0}, {4, 1.8, 4}, {4, 2.5, 4}, {4, 2.5, 0}});
+    room += wall({{4, 0.8, 0}, {4, 0.8, 1.5}, {4, 1.8, 1.5}, {4, 1.8, 0}});
+    room += wall({{4, 0.8, 2.5}, {4, 0.8, 4}, {4, 1.8, 4}, {4, 1.8, 2.5}});
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Overcast;
+    daylight.sky_radiance = 10.0;
+    daylight.sun = SunPosition{0.0, 25.0};
+    daylight.sun_irradiance = 100.0;
+    const std::vector<Probe> probes = {
+        probe({2.5, 0.01, 2.0}, {0, 1, 0}),  probe({1.0, 0.01, 1.0}, {0, 1, 0}), probe({3.0, 0.01, 0.5}, {0, 1, 0}),
+        probe({2.0, 2.49, 2.0}, {0, -1, 0}), probe({0.01, 1.2, 2.0}, {1, 0, 0}), probe({2.0, 1.2, 0.01}, {0, 0, 1}),
+        probe({3.99, 2.2, 2.0}, {-1, 0, 0}), probe({2.0, 1.0, 2.0}, {1, 0, 0}),  probe({1.5, 1.3, 3.0}, {0, 1, 0})};
+    const Bake baked = bakeWith(dir, room, daylight, probes);
+    reference::McOptions mc;
+    mc.samples = 131072;
+    mc.threads = 2;
+    std::vector<reference::McProbe> points;
+    for (const Probe& p : probes) points.push_back({p.position, p.normal});
+    const std::vector<reference::McProbeResult> ref =
+        reference::estimateProbes(reference::McBvh(*baked.scene), points, mc);
+    double sum_sq = 0.0;
+    for (size_t i = 0; i < probes.size(); ++i) {
+        const double got = baked.probe_irradiance[i].x, want = ref[i].irradiance.x, se = ref[i].standard_error.x;
+        INFO("probe " << i << ": radbake " << got << ", reference " << want << " +- " << se);
+        CHECK(se < 0.015 * want);
+        CHECK(std::abs(got - want) < 4.0 * se + 0.03 * want);
+        sum_sq += (got - want) * (got - want) / (want * want);
+    }
+    // The reference's own noise is about 1 % a probe.
+    CHECK(std::sqrt(sum_sq / probes.size()) < 0.025);
 }
