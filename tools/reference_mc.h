@@ -25,7 +25,10 @@
 // cut. Back faces are black and absorb (patches are one-sided, as in the solver), except on
 // two-sided meshes (Mesh::solid false, scene/two_sided.h), which reflect and emit alike on both
 // sides: a hit from behind sees the face with its normal flipped. Back twins (Mesh::back) are
-// skipped, their front stands for both sides. The background is black, or the sky (below). Per-face/per-vertex
+// skipped, their front stands for both sides. The background is black, or the sky (below).
+// A transmitting surface (meshTransmittance t > 0, a thin pane) lets a path through with
+// probability t, keeping its direction, and a shadow segment keeps t of its light; met, it
+// reflects as any surface does, so it reflects rho (1 - t) of what arrives. Per-face/per-vertex
 // colours and textures are ignored (material rho only).
 //
 // Punctual lights (VRML PointLight, SpotLight, DirectionalLight; Scene::lights), in both
@@ -68,6 +71,7 @@ struct McTriangle {
     DVec3 reflectance{0.0};
     DVec3 emission{0.0};  // radiance L_e
     bool two_sided = false;  // both faces reflect and emit
+    double transmittance = 0.0;  // the share of light that passes through it (meshTransmittance)
     uint32_t mesh = 0;       // index into Scene::meshes (a scoped light lights only some meshes)
 };
 
@@ -161,6 +165,7 @@ public:
                 t.e2 = c - a;
                 t.normal = cross / length;
                 t.two_sided = !mesh.solid;
+                t.transmittance = meshTransmittance(scene, mesh);
                 t.mesh = mesh_index;
                 if (material) {
                     t.reflectance = DVec3(material->reflectance);
@@ -402,6 +407,35 @@ private:
     double total_ = 0.0;
 };
 
+// The share of light that gets along the ray from x along unit w to t_max (skipping `skip`): 0
+// past an opaque triangle, else the product of the transmittances of those it crosses.
+inline double segmentThrough(const McBvh& bvh, const DVec3& x, const DVec3& w, double t_max, uint32_t skip,
+                             uint64_t& rays) {
+    double through = 1.0, t_min = 0.0;
+    for (;;) {
+        ++rays;
+        McHit hit;
+        if (!bvh.closestHit(x, w, t_min, t_max, skip, hit)) return through;
+        through *= bvh.triangles()[hit.triangle].transmittance;
+        if (!(through > 0.0)) return 0.0;
+        t_min = hit.t, skip = hit.triangle;
+    }
+}
+
+// The surface a path along unit `dir` from `origin` meets: a transmitting one is passed with
+// probability its transmittance (the light that crosses it keeps its direction), else met.
+inline bool surfaceMet(const McBvh& bvh, const DVec3& origin, const DVec3& dir, uint32_t skip, McRandom& random,
+                       McHit& hit, uint64_t& rays) {
+    double t_min = 0.0;
+    for (;;) {
+        ++rays;
+        if (!bvh.closestHit(origin, dir, t_min, std::numeric_limits<double>::infinity(), skip, hit)) return false;
+        const double through = bvh.triangles()[hit.triangle].transmittance;
+        if (!(through > 0.0) || random.uniform() >= through) return true;
+        t_min = hit.t, skip = hit.triangle;
+    }
+}
+
 // Light-sampling density per solid angle of emitter triangle `tri` seen at distance t under
 // cos_y; 0 for a non-emitter.
 inline double lightPdfSolidAngle(const McEmitters& emitters, const McTriangle& tri, double t, double cos_y) {
@@ -425,13 +459,12 @@ inline DVec3 sampleDirect(const McBvh& bvh, const McEmitters& emitters, const DV
     const DVec3 w = to / r;
     const double cos_x = glm::dot(n, w), cos_y = faceMet(light, w).second;
     if (cos_x <= 0.0 || cos_y <= 0.0) return DVec3(0.0);
-    ++rays;
-    McHit hit;
     const double eps = bvh.epsilon();
-    if (r > 2.0 * eps && bvh.closestHit(x, w, 0.0, r - eps, skip, hit) && hit.triangle != index) return DVec3(0.0);
+    const double through = r > 2.0 * eps ? segmentThrough(bvh, x, w, r - eps, skip, rays) : 1.0;
+    if (!(through > 0.0)) return DVec3(0.0);
     const double p_light = lightPdfSolidAngle(emitters, light, r, cos_y), p_cosine = cos_x / kPi;
     // L_e cos_x / p_light, times the balance weight p_light / (p_light + p_cosine).
-    return light.emission * (cos_x / (p_light + p_cosine));
+    return light.emission * (through * cos_x / (p_light + p_cosine));
 }
 
 // VRML97's spot factor at `angle` (radians) from the axis: 1 within the beam, 0 from the
@@ -444,14 +477,6 @@ inline double spotWeight(double angle, double beam_width, double cut_off_angle) 
 
 // VRML97's attenuation 1 / max(a0 + a1 d + a2 d^2, 1), on top of the inverse-square law.
 inline double distanceWeight(const DVec3& a, double d) { return 1.0 / std::max(1.0, a.x + d * (a.y + d * a.z)); }
-
-// True when nothing lies on the ray from x along unit w before t_max (skipping `skip`).
-inline bool segmentClear(const McBvh& bvh, const DVec3& x, const DVec3& w, double t_max, uint32_t skip,
-                         uint64_t& rays) {
-    ++rays;
-    McHit hit;
-    return !bvh.closestHit(x, w, 0.0, t_max, skip, hit);
-}
 
 // Irradiance at x (unit normal n) from one punctual light, with its shadow segment: exact,
 // since a delta light has no area to sample.
@@ -468,14 +493,14 @@ inline DVec3 lightDirect(const McBvh& bvh, const McLight& light, const DVec3& x,
         const DVec3 w = glm::normalize(w0 * cos_t + (e1 * std::cos(phi) + e2 * std::sin(phi)) * sin_t);
         const double cos_x = glm::dot(n, w);
         if (!(cos_x > 0.0)) return DVec3(0.0);
-        const bool lit = segmentClear(bvh, x, w, std::numeric_limits<double>::infinity(), skip, rays);
-        return lit ? light.strength * (2.0 / (1.0 + light.cone_cos) * cos_x) : DVec3(0.0);
+        const double through = segmentThrough(bvh, x, w, std::numeric_limits<double>::infinity(), skip, rays);
+        return light.strength * (through * 2.0 / (1.0 + light.cone_cos) * cos_x);
     }
     if (light.type == LightType::Directional) {
         const double cos_x = -glm::dot(n, light.axis);
         if (!(cos_x > 0.0)) return DVec3(0.0);
-        const bool lit = segmentClear(bvh, x, -light.axis, std::numeric_limits<double>::infinity(), skip, rays);
-        return lit ? light.strength * cos_x : DVec3(0.0);
+        const double through = segmentThrough(bvh, x, -light.axis, std::numeric_limits<double>::infinity(), skip, rays);
+        return light.strength * (through * cos_x);
     }
     const DVec3 to = light.position - x;
     const double d = glm::length(to);
@@ -490,8 +515,8 @@ inline DVec3 lightDirect(const McBvh& bvh, const McLight& light, const DVec3& x,
     if (!(spot > 0.0)) return DVec3(0.0);
     // Stops short of the light by the offset, as the emitter samples do.
     const double eps = bvh.epsilon();
-    if (d > 2.0 * eps && !segmentClear(bvh, x, w, d - eps, skip, rays)) return DVec3(0.0);
-    return light.strength * (cos_x * spot * distanceWeight(light.attenuation, d) / (d * d));
+    const double through = d > 2.0 * eps ? segmentThrough(bvh, x, w, d - eps, skip, rays) : 1.0;
+    return light.strength * (through * cos_x * spot * distanceWeight(light.attenuation, d) / (d * d));
 }
 
 // "No mesh" for a receiver: a probe has no place in the scene graph, so every light lights it.
@@ -523,9 +548,8 @@ inline DVec3 tracePathNee(const McBvh& bvh, const McEmitters& emitters, const DV
         if (!emitters.empty()) sum += throughput * sampleDirect(bvh, emitters, origin, normal, skip, random, rays);
         sum += throughput * punctualDirect(bvh, origin, normal, skip, mesh, random, rays);
         McHit hit;
-        ++rays;
         const DVec3 dir = cosineDirection(normal, random);
-        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) {
+        if (!surfaceMet(bvh, origin, dir, skip, random, hit, rays)) {
             sum += throughput * (kPi * bvh.sky().arriving(dir));  // left the scene: the sky (pdf cos / pi)
             break;
         }
@@ -559,8 +583,7 @@ inline DVec3 tracePath(const McBvh& bvh, const DVec3& p, const DVec3& n, McRando
     DVec3 sum = punctualDirect(bvh, origin, n, skip, kMcAnyMesh, random, rays);
     for (int bounce = 0; bounce <= max_bounces; ++bounce) {
         McHit hit;
-        ++rays;
-        if (!bvh.closestHit(origin, dir, 0.0, std::numeric_limits<double>::infinity(), skip, hit)) {
+        if (!surfaceMet(bvh, origin, dir, skip, random, hit, rays)) {
             sum += throughput * (kPi * bvh.sky().arriving(dir));
             break;
         }

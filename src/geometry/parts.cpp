@@ -465,6 +465,8 @@ PartSet buildParts(const Scene& scene, const PartOptions& options, Diagnostics& 
                               "could not build convex parts of mesh '" + scene.meshes[m].name + "': " + e.what());
         }
     }
+    for (ConvexPart& part : set.parts)
+        part.transmits = part.mesh < scene.meshes.size() && meshTransmittance(scene, scene.meshes[part.mesh]) > 0.0f;
     computeStats(set);
     set.tree = buildPartTree(set.parts);
     return set;

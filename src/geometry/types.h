@@ -56,6 +56,9 @@ struct ConvexPart {
     Aabb aabb;
     Obb obb;
     uint32_t mesh = 0;            // Scene::meshes index it came from
+    // Its mesh lets light through (meshTransmittance > 0): a candidate that never occludes a
+    // shaft on its own, so the rays that cross it weigh what it lets through.
+    bool transmits = false;
     std::vector<uint32_t> polygons;  // source polygons of that mesh it covers
 };
 

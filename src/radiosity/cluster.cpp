@@ -599,13 +599,13 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             // spread: when they agree, every pair takes their answer.
             auto pair_open = [&](uint32_t pair) {
                 const uint32_t i = pair / rm.count, j = pair % rm.count;
-                int open = 0;
+                double open = 0.0;
                 for (int q = 0; q < kRaysPerPair; ++q) {
                     const int a = int(i + j) + 2 * q, b = int(i + 2 * j + 1) + 2 * q;
-                    open += s.rays->segmentBlocked(src_point(i, a), rcv_point(j, b)) ? 0 : 1;
+                    open += s.rays->transmittance(src_point(i, a), rcv_point(j, b));
                 }
                 ev.rays += kRaysPerPair;
-                return double(open) / kRaysPerPair;
+                return open / kRaysPerPair;
             };
             bool resolved = visible;
             if (!resolved && faint && lit_count > kFaintRays) {
@@ -666,12 +666,14 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             calibrate();
             return ev;
         }
-        // Rays between facing members; the first disagreement settles it (mixed: split).
+        // Rays between facing members; the first disagreement settles it (mixed: split), as does
+        // a ray through a transmitting surface (a separable link is wholly visible or dark).
         size_t open = 0, total = 0;
         auto cast = [&](const DVec3& from, const DVec3& to) {
-            open += s.rays->segmentBlocked(from, to) ? 0 : 1;
+            const double through = s.rays->transmittance(from, to);
+            open += through > 0.0 ? 1 : 0;
             ++total;
-            return open > 0 && open < total;
+            return (open > 0 && open < total) || (through > 0.0 && through < 1.0);
         };
         bool mixed = false;
         if (faint) {

@@ -77,7 +77,8 @@ void addRoot(Solution& solution, const Scene& scene, uint32_t mesh_index, uint32
     element.polygon = polygon;
     element.root = static_cast<uint32_t>(solution.elements.size());
     // Per polygon: a texture may give each polygon its own (scene.h).
-    element.reflectance = DVec3(polygonReflectance(scene, mesh, polygon));
+    // A transmitting surface lets its share through; the rest meets it as an opaque surface.
+    element.reflectance = DVec3(polygonReflectance(scene, mesh, polygon)) * (1.0 - meshTransmittance(scene, mesh));
     element.emission = kPi * DVec3(polygonEmission(scene, mesh, polygon));
     solution.elements.push_back(element);
 }

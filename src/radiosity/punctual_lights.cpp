@@ -54,11 +54,13 @@ DVec3 discIrradiance(const DVec3& power, double angular_diameter, const RayCaste
         const double cosine = glm::dot(n_world, d);
         if (!(cosine > 0.0)) return;
         ++tried;
+        double through = 1.0;
         if (caster) {
             if (rays_cast) ++*rays_cast;
-            if (caster->segmentBlocked(p_world, pointAtInfinity(*caster, p_world, d))) return;
+            through = caster->transmittance(p_world, pointAtInfinity(*caster, p_world, d));
+            if (through == 0.0) return;
         }
-        sum += cosine, ++seen;
+        sum += cosine * through, ++seen;
     };
     constexpr int kRing = 8;
     for (int k = 0; k < kRing; ++k) add(0.9, (k + 0.5) * 2.0 * kPi / kRing);
@@ -94,12 +96,12 @@ DVec3 lightIrradiance(const Light& light, const RayCaster* caster, const DVec3& 
         if (light.angular_diameter > 0.0f && cos_theta > -std::sin(0.5 * double(light.angular_diameter)))
             return discIrradiance(power, light.angular_diameter, caster, p_world, n_world, towards_light, rays_cast);
         if (!(cos_theta > 0.0)) return DVec3(0.0);
+        double through = 1.0;
         if (caster) {
             if (rays_cast) ++*rays_cast;
-            if (caster->segmentBlocked(p_world, pointAtInfinity(*caster, p_world, towards_light)))
-                return DVec3(0.0);
+            through = caster->transmittance(p_world, pointAtInfinity(*caster, p_world, towards_light));
         }
-        return power * cos_theta;
+        return power * (cos_theta * through);
     }
 
     const DVec3 to_light = DVec3(light.position) - p_world;
@@ -118,11 +120,12 @@ DVec3 lightIrradiance(const Light& light, const RayCaster* caster, const DVec3& 
         spot = spotFactor(std::acos(cos_angle), light.beam_width, light.cut_off_angle);
         if (spot == 0.0) return DVec3(0.0);
     }
+    double through = 1.0;
     if (caster) {
         if (rays_cast) ++*rays_cast;
-        if (caster->segmentBlocked(p_world, DVec3(light.position))) return DVec3(0.0);
+        through = caster->transmittance(p_world, DVec3(light.position));
     }
-    return power * (cos_theta / (distance * distance) * attenuationFactor(light.attenuation, distance) * spot);
+    return power * (through * cos_theta / (distance * distance) * attenuationFactor(light.attenuation, distance) * spot);
 }
 
 DVec3 punctualIrradiance(std::span<const Light> lights, const RayCaster* caster, const DVec3& p_world,

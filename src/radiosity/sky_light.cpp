@@ -16,8 +16,9 @@
 namespace radbake {
 namespace {
 
-// What a sample sees: the sky, something in the way, or nothing (at or below the horizon).
-enum class Seen : uint8_t { Sky, Blocked, Nothing, Unknown };
+// What a sample sees: the sky, the sky through a transmitting surface, something in the way, or
+// nothing (at or below the horizon).
+enum class Seen : uint8_t { Sky, Through, Blocked, Nothing, Unknown };
 
 struct Sample {
     DVec3 weighted{0.0};  // L V cos theta
@@ -56,7 +57,7 @@ public:
     void sample(std::span<const double> u, std::span<const double> v, double side, std::span<Sample> out) {
         std::array<DVec3, kBatch> far;
         std::array<size_t, kBatch> which;
-        std::array<uint8_t, kBatch> open;
+        std::array<float, kBatch> through;
         size_t cast = 0;
         for (size_t k = 0; k < out.size(); ++k) {
             const double a = 2.0 * u[k] - 1.0, b = 2.0 * v[k] - 1.0;
@@ -75,9 +76,9 @@ public:
             if (!caster_) continue;
             far[cast] = pointAtInfinity(*caster_, p_, d);
             which[cast++] = k;
-            if (cast == kBatch) flush(far, which, open, cast, out);
+            if (cast == kBatch) flush(far, which, through, cast, out);
         }
-        if (cast > 0) flush(far, which, open, cast, out);
+        if (cast > 0) flush(far, which, through, cast, out);
     }
 
     Quad quad(double u0, double v0, double size) {
@@ -144,10 +145,13 @@ private:
     }
 
     void flush(const std::array<DVec3, kBatch>& far, const std::array<size_t, kBatch>& which,
-               std::array<uint8_t, kBatch>& open, size_t& cast, std::span<Sample> out) {
-        caster_->openFrom(p_, std::span<const DVec3>(far.data(), cast), std::span<uint8_t>(open.data(), cast));
-        for (size_t k = 0; k < cast; ++k)
-            if (!open[k]) out[which[k]] = {DVec3(0.0), Seen::Blocked};
+               std::array<float, kBatch>& through, size_t& cast, std::span<Sample> out) {
+        caster_->transmittanceFrom(p_, std::span<const DVec3>(far.data(), cast), std::span<float>(through.data(), cast));
+        for (size_t k = 0; k < cast; ++k) {
+            Sample& sample = out[which[k]];
+            if (through[k] == 0.0f) sample = {DVec3(0.0), Seen::Blocked};
+            else if (through[k] < 1.0f) sample = {sample.weighted * double(through[k]), Seen::Through};
+        }
         rays += cast;
         cast = 0;
     }

@@ -21,6 +21,12 @@ Vec3 polygonEmission(const Scene& scene, const Mesh& mesh, uint32_t polygon) {
     return mesh.material < scene.materials.size() ? scene.materials[mesh.material].emission : Vec3(0.0f);
 }
 
+float meshTransmittance(const Scene& scene, const Mesh& mesh) {
+    if (mesh.material >= scene.materials.size()) return 0.0f;
+    const float t = scene.materials[mesh.material].transparency;
+    return t > 0.0f ? std::min(t, 1.0f) : 0.0f;  // NaN and negatives: opaque
+}
+
 bool Light::lights(uint32_t mesh) const {
     return !scoped || std::binary_search(scope.begin(), scope.end(), mesh);
 }

@@ -35,6 +35,9 @@ struct Material {
     Vec3 reflectance{0.8f};
     Vec3 emission{0.0f};     // emitted radiance L_e, W sr^-1 m^-2 (times --emission-scale)
     float ambient_intensity = 0.2f;
+    // The share of light that passes through the surface unchanged in direction (a thin pane,
+    // no refraction); the rest meets it as an opaque surface of this reflectance would
+    // (meshTransmittance: clamped to [0, 1]).
     float transparency = 0.0f;
     TextureRef base_color_texture;  // sets the reflectance per polygon (scene/textures.h)
     TextureRef emissive_texture;    // sets the emission per polygon
@@ -190,5 +193,9 @@ double triangleArea(const Mesh& mesh, size_t triangle);
 Vec3 polygonReflectance(const Scene& scene, const Mesh& mesh, uint32_t polygon);
 Vec3 polygonEmission(const Scene& scene, const Mesh& mesh, uint32_t polygon);
 SceneSummary summarize(const Scene& scene);
+
+// The share of light a mesh's surfaces let through (Material::transparency in [0, 1]; 0 without
+// a material): a ray crossing it keeps that share, and the surface reflects rho times the rest.
+float meshTransmittance(const Scene& scene, const Mesh& mesh);
 
 }  // namespace radbake

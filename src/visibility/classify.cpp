@@ -117,6 +117,7 @@ void classifyLink(const PartSet& parts, std::span<const uint32_t> parent_candida
                 } else {
                     occludes = occludesObb(*box_shaft, part.obb);
                 }
+                occludes = occludes && !part.transmits;
                 if (occludes && !result.occluded) {
                     result.occluded = true;
                     result.occluder = index;

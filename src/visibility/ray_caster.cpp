@@ -47,6 +47,45 @@ void collectTies(const RTCFilterFunctionNArguments* args) {
     args->valid[0] = 0;  // keep looking
 }
 
+// Occlusion queries cross transmitting surfaces (meshTransmittance > 0): their occlusion filter
+// multiplies the lane's transmittance by the surface's and rejects the hit, so traversal goes
+// on; the lane is blocked once its transmittance falls below kOpaqueBelow. Hits within `same` of
+// a distance already passed are one crossing (the seam between two triangles of a pane, or
+// between two panes, reports both), counted once.
+constexpr float kOpaqueBelow = 1e-6f;
+struct PassContext {
+    RTCIntersectContext context;  // first: Embree passes a pointer to it to the filter
+    const float* mesh_transmittance = nullptr;  // per geometry id
+    float same = 0.0f;
+    static constexpr int kLanes = 8;
+    static constexpr int kRemembered = 8;
+    std::array<float, kLanes> transmittance;
+    std::array<std::array<float, kRemembered>, kLanes> passed_at;
+    std::array<uint8_t, kLanes> passed{};
+
+    PassContext(const float* per_mesh, double same_distance)
+        : mesh_transmittance(per_mesh), same(static_cast<float>(same_distance)) {
+        rtcInitIntersectContext(&context);
+        transmittance.fill(1.0f);
+    }
+};
+
+void passThrough(const RTCFilterFunctionNArguments* args) {
+    auto* pass = const_cast<PassContext*>(reinterpret_cast<const PassContext*>(args->context));
+    if (pass == nullptr || pass->mesh_transmittance == nullptr) return;
+    for (unsigned i = 0; i < args->N && i < static_cast<unsigned>(PassContext::kLanes); ++i) {
+        if (args->valid[i] == 0) continue;
+        const float t = RTCRayN_tfar(args->ray, args->N, i);
+        bool seen = false;
+        for (uint8_t k = 0; k < pass->passed[i] && !seen; ++k) seen = std::abs(pass->passed_at[i][k] - t) <= pass->same;
+        if (!seen) {
+            if (pass->passed[i] < PassContext::kRemembered) pass->passed_at[i][pass->passed[i]++] = t;
+            pass->transmittance[i] *= pass->mesh_transmittance[RTCHitN_geomID(args->hit, args->N, i)];
+        }
+        if (pass->transmittance[i] >= kOpaqueBelow) args->valid[i] = 0;  // through it: keep looking
+    }
+}
+
 // Frame. Embree works in float; a scene far from the origin (georeferenced or CAD
 // coordinates) would lose its float precision there. So Embree gets the geometry translated
 // to the scene's bounding-box centre (computed in double from the stored floats, so nothing
@@ -88,6 +127,10 @@ struct RayCaster::Impl {
     // in the structure (it is its front's surface); closestHit names it for hits from behind.
     std::vector<uint32_t> back_twin;
     size_t triangle_count = 0;
+    // Per mesh: the share of light its surfaces let through (0: opaque); empty when every mesh is.
+    std::vector<float> mesh_transmittance;
+    const float* passing() const { return mesh_transmittance.empty() ? nullptr : mesh_transmittance.data(); }
+    PassContext passContext() const { return PassContext(passing(), epsilon); }
     Aabb bounds;
     DVec3 origin{0.0};  // Embree's frame: world minus origin (the bounds' centre)
     double extent = 0.0;
@@ -113,9 +156,11 @@ struct RayCaster::Impl {
         errors.push_back(std::move(message));
     }
 
-    bool occluded(const DVec3& from, const DVec3& to) const;
-    // Number of unblocked segments from[k] -> to[pairedIndex(k)], cast in packets of 8.
-    size_t countOpenPaired(const std::vector<DVec3>& from, const std::vector<DVec3>& to, size_t n) const;
+    // The share of light that gets through the segment: 0 blocked, 1 open, between through
+    // transmitting surfaces.
+    double transmittance(const DVec3& from, const DVec3& to) const;
+    // The sum over segments from[k] -> to[pairedIndex(k)] of their transmittance, cast in packets of 8.
+    double countOpenPaired(const std::vector<DVec3>& from, const std::vector<DVec3>& to, size_t n) const;
     // The usable candidates, gathered once per query so the per-segment loop is contiguous.
     std::vector<PreparedTriangle> prepare(std::span<const TriangleRef> candidates) const;
     bool occludedAmong(const DVec3& from, const DVec3& to, std::span<const PreparedTriangle> triangles) const;
@@ -292,13 +337,12 @@ std::vector<DVec3> stratifiedPolygonPoints(std::span<const DVec3> polygon, int s
     return points;
 }
 
-bool RayCaster::Impl::occluded(const DVec3& from, const DVec3& to) const {
+double RayCaster::Impl::transmittance(const DVec3& from, const DVec3& to) const {
     const DVec3 delta = to - from;
     const double length = glm::length(delta);
-    if (!(length > 2.0 * epsilon) || !std::isfinite(length)) return false;
+    if (!(length > 2.0 * epsilon) || !std::isfinite(length)) return 1.0;
     const DVec3 direction = delta / length;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    PassContext pass = passContext();
     RTCRay ray{};
     const DVec3 from_local = from - origin;
     ray.org_x = static_cast<float>(from_local.x);
@@ -312,19 +356,18 @@ bool RayCaster::Impl::occluded(const DVec3& from, const DVec3& to) const {
     ray.mask = 0xFFFFFFFFu;
     ray.flags = 0;
     ray.time = 0.0f;
-    rtcOccluded1(scene, &context, &ray);
-    return ray.tfar == -std::numeric_limits<float>::infinity();
+    rtcOccluded1(scene, &pass.context, &ray);
+    return ray.tfar == -std::numeric_limits<float>::infinity() ? 0.0 : double(pass.transmittance[0]);
 }
 
-size_t RayCaster::Impl::countOpenPaired(const std::vector<DVec3>& from, const std::vector<DVec3>& to,
+double RayCaster::Impl::countOpenPaired(const std::vector<DVec3>& from, const std::vector<DVec3>& to,
                                         size_t n) const {
     constexpr size_t kLanes = 8;
-    // The segments of one element pair are coherent (they join two small polygons).
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    size_t open = 0;
+    double open = 0.0;
     for (size_t first = 0; first < from.size(); first += kLanes) {
+        // The segments of one element pair are coherent (they join two small polygons).
+        PassContext pass = passContext();
+        pass.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         RTCRay8 packet;
         alignas(32) int valid[kLanes];
         for (size_t lane = 0; lane < kLanes; ++lane) {
@@ -332,11 +375,12 @@ size_t RayCaster::Impl::countOpenPaired(const std::vector<DVec3>& from, const st
             const bool used = k < from.size();
             const DVec3 a = used ? from[k] - origin : DVec3(0.0);
             const DVec3 delta = used ? to[pairedIndex(k, n)] - from[k] : DVec3(0.0);
-            if (!setSegmentLane(packet, valid, lane, a, delta, epsilon, used) && used) ++open;
+            if (!setSegmentLane(packet, valid, lane, a, delta, epsilon, used) && used) open += 1.0;
         }
-        rtcOccluded8(valid, scene, &context, &packet);
+        rtcOccluded8(valid, scene, &pass.context, &packet);
         for (size_t lane = 0; lane < kLanes; ++lane)
-            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity()) ++open;
+            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity())
+                open += pass.transmittance[lane];
     }
     return open;
 }
@@ -372,7 +416,7 @@ constexpr size_t kAttachFailed = static_cast<size_t>(-1);
 
 // Gives Embree the usable triangles of one mesh, in the centred frame. Returns how many, or
 // kAttachFailed (Embree has then reported why through the error callback).
-size_t attachMesh(RayCaster::Impl& impl, const MeshCopy& copy, uint32_t geometry_id) {
+size_t attachMesh(RayCaster::Impl& impl, const MeshCopy& copy, uint32_t geometry_id, bool transmits) {
     size_t valid_count = 0;
     for (uint8_t valid : copy.valid) valid_count += valid;
     if (valid_count == 0) return 0;
@@ -406,6 +450,7 @@ size_t attachMesh(RayCaster::Impl& impl, const MeshCopy& copy, uint32_t geometry
         ++written;
     }
     rtcSetGeometryIntersectFilterFunction(geometry, collectTies);
+    if (transmits) rtcSetGeometryOccludedFilterFunction(geometry, passThrough);
     rtcCommitGeometry(geometry);
     rtcAttachGeometryByID(impl.scene, geometry, geometry_id);
     rtcReleaseGeometry(geometry);
@@ -472,8 +517,16 @@ std::unique_ptr<RayCaster> RayCaster::build(const Scene& scene, Diagnostics& dia
         impl->epsilon = std::max(kMinEpsilon, kRelativeEpsilon * impl->extent);
 
         // Pass 2: one Embree geometry per mesh, geometry id = mesh index.
+        for (const Mesh& mesh : scene.meshes)
+            if (meshTransmittance(scene, mesh) > 0.0f) {
+                impl->mesh_transmittance.resize(scene.meshes.size(), 0.0f);
+                break;
+            }
+        for (uint32_t m = 0; m < impl->mesh_transmittance.size(); ++m)
+            impl->mesh_transmittance[m] = meshTransmittance(scene, scene.meshes[m]);
         for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
-            const size_t added = attachMesh(*impl, impl->meshes[m], m);
+            const bool transmits = !impl->mesh_transmittance.empty() && impl->mesh_transmittance[m] > 0.0f;
+            const size_t added = attachMesh(*impl, impl->meshes[m], m, transmits);
             if (added == kAttachFailed) {
                 flushErrors();
                 diagnostics.error(where, "ray caster: Embree could not take mesh '" + scene.meshes[m].name + "'");
@@ -505,48 +558,52 @@ Aabb RayCaster::sceneBounds() const { return impl_->bounds; }
 double RayCaster::epsilon() const { return impl_->epsilon; }
 size_t RayCaster::triangleCount() const { return impl_->triangle_count; }
 
-bool RayCaster::segmentBlocked(const DVec3& from, const DVec3& to) const { return impl_->occluded(from, to); }
+bool RayCaster::segmentBlocked(const DVec3& from, const DVec3& to) const {
+    return impl_->transmittance(from, to) == 0.0;
+}
+
+double RayCaster::transmittance(const DVec3& from, const DVec3& to) const { return impl_->transmittance(from, to); }
 
 template <class Open>
 void RayCaster::forOpenFrom(const DVec3& from, std::span<const DVec3> to, Open&& open) const {
     constexpr size_t kLanes = 4;
     const Impl& impl = *impl_;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
     const DVec3 from_local = from - impl.origin;
     for (size_t first = 0; first < to.size(); first += kLanes) {
+        PassContext pass = impl.passContext();
         RTCRay4 packet;
         alignas(16) int valid[kLanes];
         for (size_t lane = 0; lane < kLanes; ++lane) {
             const size_t k = first + lane;
             const bool used = k < to.size();
             const DVec3 delta = used ? to[k] - from : DVec3(0.0);
-            if (!setSegmentLane(packet, valid, lane, from_local, delta, impl.epsilon, used) && used) open(k);
+            if (!setSegmentLane(packet, valid, lane, from_local, delta, impl.epsilon, used) && used) open(k, 1.0);
         }
-        rtcOccluded4(valid, impl.scene, &context, &packet);
+        rtcOccluded4(valid, impl.scene, &pass.context, &packet);
         for (size_t lane = 0; lane < kLanes; ++lane)
-            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity()) open(first + lane);
+            if (valid[lane] && packet.tfar[lane] != -std::numeric_limits<float>::infinity())
+                open(first + lane, double(pass.transmittance[lane]));
     }
 }
 
 size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to) const {
     size_t open = 0;
-    forOpenFrom(from, to, [&](size_t) { ++open; });
+    forOpenFrom(from, to, [&](size_t, double) { ++open; });
     return open;
 }
 
-void RayCaster::openFrom(const DVec3& from, std::span<const DVec3> to, std::span<uint8_t> open) const {
-    std::fill(open.begin(), open.end(), uint8_t{0});
-    forOpenFrom(from, to, [&](size_t k) { open[k] = 1; });
+void RayCaster::transmittanceFrom(const DVec3& from, std::span<const DVec3> to, std::span<float> through) const {
+    std::fill(through.begin(), through.end(), 0.0f);
+    forOpenFrom(from, to, [&](size_t k, double t) { through[k] = static_cast<float>(t); });
 }
 
 size_t RayCaster::countOpenFrom(const DVec3& from, std::span<const DVec3> to, std::span<const double> weight,
                                 double& open_weight) const {
     size_t open = 0;
     open_weight = 0.0;
-    forOpenFrom(from, to, [&](size_t k) {
+    forOpenFrom(from, to, [&](size_t k, double through) {
         ++open;
-        open_weight += weight[k];
+        open_weight += weight[k] * through;
     });
     return open;
 }
@@ -579,9 +636,9 @@ double RayCaster::visibleFraction(std::span<const DVec3> source, std::span<const
     if (source.empty() || receiver.empty()) return 0.0;
     const std::vector<DVec3> from = stratifiedPolygonPoints(source, samples_per_side);
     const std::vector<DVec3> to = stratifiedPolygonPoints(receiver, samples_per_side);
-    const size_t open = impl_->countOpenPaired(from, to, static_cast<size_t>(std::max(samples_per_side, 1)));
+    const double open = impl_->countOpenPaired(from, to, static_cast<size_t>(std::max(samples_per_side, 1)));
     if (rays_cast) *rays_cast += from.size();
-    return static_cast<double>(open) / static_cast<double>(from.size());
+    return open / static_cast<double>(from.size());
 }
 
 double RayCaster::visibleFractionAmong(std::span<const DVec3> source, std::span<const DVec3> receiver,

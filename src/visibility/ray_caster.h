@@ -55,21 +55,26 @@ public:
     double epsilon() const;      // the end offset applied to every segment, scene units
     size_t triangleCount() const;  // triangles in the structure
 
-    // True when some triangle crosses the segment strictly between from and to, both ends
-    // shortened by epsilon(). A segment shorter than 2 epsilon() is never blocked.
+    // True when some opaque triangle crosses the segment strictly between from and to, both ends
+    // shortened by epsilon(), or transmitting ones let nothing through. A segment shorter than
+    // 2 epsilon() is never blocked.
     bool segmentBlocked(const DVec3& from, const DVec3& to) const;
+    // The share of light that gets through the same segment: 0 blocked, 1 open, the product of
+    // the transmittances (meshTransmittance) of the transmitting surfaces it crosses.
+    double transmittance(const DVec3& from, const DVec3& to) const;
 
     // How many of the segments from -> to[k] are NOT blocked, each judged exactly as
     // segmentBlocked() judges it (same ends, same epsilon), cast as packets of 4 rays: a probe
     // casts a few segments from one point to each element it gathers from.
     size_t countOpenFrom(const DVec3& from, std::span<const DVec3> to) const;
-    // The same, and the sum of weight[k] over the open segments in `open_weight`.
+    // The same, and the sum of weight[k] times their transmittance over the open segments in
+    // `open_weight`.
     size_t countOpenFrom(const DVec3& from, std::span<const DVec3> to, std::span<const double> weight,
                          double& open_weight) const;
 
-    // open[k] = 1 when the segment from -> to[k] is not blocked, else 0 (countOpenFrom's
-    // judgement, the same packets); `open` holds to.size() entries.
-    void openFrom(const DVec3& from, std::span<const DVec3> to, std::span<uint8_t> open) const;
+    // through[k] = transmittance(from, to[k]) (countOpenFrom's judgement, the same packets);
+    // `through` holds to.size() entries.
+    void transmittanceFrom(const DVec3& from, std::span<const DVec3> to, std::span<float> through) const;
 
     // Back twins (scene/two_sided.h) are not in the structure: their front blocks for both
     // sides. closestHit reports a hit on a two-sided front from behind as the back twin's
@@ -83,13 +88,14 @@ public:
     // edge a ray crosses, either may be reported (but always the same one).
     std::optional<RayHit> closestHit(const DVec3& origin, const DVec3& direction, double t_max) const;
 
-    // Visible fraction in [0, 1] between two convex polygons (vertices in order, 3 or more).
+    // Visible fraction in [0, 1] between two convex polygons (each segment counting its
+    // transmittance) (vertices in order, 3 or more).
     // Each polygon gets n x n stratified points (n = samples_per_side; cell centres of a
     // grid mapped onto the polygon: bilinear on quads, area-preserving on triangles and other
     // convex polygons), and source stratum (i, j) is joined to receiver stratum
     // (i + j, i + 2j) mod n, a fixed bijection that keeps the pairs stratified (see
     // ray_caster.cpp); so n*n segments are cast. Fraction =
-    // unblocked / n^2. rays_cast, when given, is INCREMENTED by the number of segments cast.
+    // sum of their transmittances / n^2. rays_cast, when given, is INCREMENTED by the number of segments cast.
     double visibleFraction(std::span<const DVec3> source, std::span<const DVec3> receiver,
                            int samples_per_side, size_t* rays_cast = nullptr) const;
 

@@ -76,3 +76,28 @@ TEST_CASE("reference MC daylight: a sun disc, E sin h on the ground and half of 
     CHECK(estimateAt(scene, {-0.1, 0, 1e-3}, {0, 0, 1}, 1024).irradiance.x == 0.0);
     CHECK(estimateAt(scene, {0.1, 0, 1e-3}, {0, 0, 1}, 1024).irradiance.x == doctest::Approx(3.0).epsilon(1e-3));
 }
+
+TEST_CASE("reference MC daylight: a black pane of transmission t over every sky direction passes t of the sky") {
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Uniform;
+    Scene scene = blackGround(daylight);
+    // A glass box x, y in [-1, 1], z in [0, 1] on the ground: a path to the sky crosses one pane.
+    const uint32_t glass = addMaterial(scene, Vec3(0.0f), Vec3(0.0f));
+    scene.materials[glass].transparency = 0.6f;
+    addQuad(scene, glass, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1});
+    addQuad(scene, glass, {-1, -1, 0}, {1, -1, 0}, {1, -1, 1}, {-1, -1, 1});
+    addQuad(scene, glass, {-1, 1, 0}, {1, 1, 0}, {1, 1, 1}, {-1, 1, 1});
+    addQuad(scene, glass, {-1, -1, 0}, {-1, 1, 0}, {-1, 1, 1}, {-1, -1, 1});
+    addQuad(scene, glass, {1, -1, 0}, {1, 1, 0}, {1, 1, 1}, {1, -1, 1});
+    for (size_t m = 1; m < scene.meshes.size(); ++m) scene.meshes[m].solid = false;
+    checkEstimate(estimateAt(scene, {0, 0, 0.3}, {0, 0, 1}, 65536), 0.6 * kPi, 0.01);
+    // A sun's shadow segment keeps t of it, deterministically.
+    daylight.sky = SkyModel::None;
+    daylight.sun = SunPosition{0.0, 60.0};
+    daylight.sun_diameter_degrees = 0.0;
+    Scene sunny = blackGround(daylight);
+    sunny.materials = scene.materials;
+    for (size_t m = 1; m < scene.meshes.size(); ++m) sunny.meshes.push_back(scene.meshes[m]);
+    const reference::McProbeResult lit = estimateAt(sunny, {0, 0, 0.3}, {0, 0, 1}, 64);
+    CHECK(lit.irradiance.x == doctest::Approx(0.6 * 25.0 * std::sin(kPi / 3)).epsilon(1e-6));
+}

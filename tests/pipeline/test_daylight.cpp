@@ -31,6 +31,16 @@ std::string quad(const std::vector<DVec3>& corners, double rho, bool two_sided =
            " coord Coordinate { point [ " + points + "] } coordIndex [ 0 1 2 3 -1 ] } }\n";
 }
 
+// A black pane letting `t` of the light through: VRML transparency.
+std::string pane(const std::vector<DVec3>& corners, double t) {
+    std::string points;
+    for (const DVec3& c : corners)
+        points += std::to_string(c.x) + " " + std::to_string(c.y) + " " + std::to_string(c.z) + ", ";
+    return "Shape { appearance Appearance { material Material { diffuseColor 0 0 0 transparency " + std::to_string(t) +
+           " } } geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ " + points +
+           "] } coordIndex [ 0 1 2 3 -1 ] } }\n";
+}
+
 // A black ground y = 0, x and z in [-50, 50], facing up.
 const std::string kBlackGround = quad({{-50, 0, -50}, {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}}, 0.0);
 
@@ -260,7 +270,7 @@ TEST_CASE("daylight options: parsed, checked and named as the README says") {
     CHECK(checkDaylight(DaylightOptions{}).empty());
 }
 
-TEST_CASE("a room lit by sky and sun through an open window: radbake's probes against reference_mc") {
+TEST_CASE("a room lit by sky and sun through a window, open and glazed: radbake's probes against reference_mc") {
     TempDir dir;
     // A grey room x, z in [0, 4], y in [0, 2.5], faces inwards, one-sided, each wall tiled; a window
     // z in [1.5, 2.5], y in [0.8, 1.8] in its x = 4 wall.
@@ -281,6 +291,10 @@ TEST_CASE("a room lit by sky and sun through an open window: radbake's probes ag
     room += wall({{4, 1.8, 0}, {4, 1.8, 4}, {4, 2.5, 4}, {4, 2.5, 0}});
     room += wall({{4, 0.8, 0}, {4, 0.8, 1.5}, {4, 1.8, 1.5}, {4, 1.8, 0}});
     room += wall({{4, 0.8, 2.5}, {4, 0.8, 4}, {4, 1.8, 4}, {4, 1.8, 2.5}});
+    // The glazed window: a pane of transmission 0.7 and reflectance 0.2 (0.06 of what meets it).
+    const std::string glass = "Shape { appearance Appearance { material Material { diffuseColor 0.2 0.2 0.2 "
+                              "transparency 0.7 } } geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ "
+                              "4 0.8 1.5, 4 0.8 2.5, 4 1.8 2.5, 4 1.8 1.5 ] } coordIndex [ 0 1 2 3 -1 ] } }\n";
     DaylightOptions daylight;
     daylight.sky = SkyModel::Overcast;
     daylight.sky_radiance = 10.0;
@@ -290,7 +304,9 @@ TEST_CASE("a room lit by sky and sun through an open window: radbake's probes ag
         probe({2.5, 0.01, 2.0}, {0, 1, 0}),  probe({1.0, 0.01, 1.0}, {0, 1, 0}), probe({3.0, 0.01, 0.5}, {0, 1, 0}),
         probe({2.0, 2.49, 2.0}, {0, -1, 0}), probe({0.01, 1.2, 2.0}, {1, 0, 0}), probe({2.0, 1.2, 0.01}, {0, 0, 1}),
         probe({3.99, 2.2, 2.0}, {-1, 0, 0}), probe({2.0, 1.0, 2.0}, {1, 0, 0}),  probe({1.5, 1.3, 3.0}, {0, 1, 0})};
-    const Bake baked = bakeWith(dir, room, daylight, probes);
+    for (const bool glazed : {false, true}) {
+    INFO("glazed: " << glazed);
+    const Bake baked = bakeWith(dir, glazed ? room + glass : room, daylight, probes);
     reference::McOptions mc;
     mc.samples = 131072;
     mc.threads = 2;
@@ -308,4 +324,29 @@ TEST_CASE("a room lit by sky and sun through an open window: radbake's probes ag
     }
     // The reference's own noise is about 1 % a probe.
     CHECK(std::sqrt(sum_sq / probes.size()) < 0.025);
+    }
+}
+
+TEST_CASE("a black pane of transmission t over every sky direction: t times the open sky and sun") {
+    TempDir dir;
+    // A glass box x, z in [-1, 1], y in [0, 1] on the black ground: every path to the sky crosses
+    // exactly one pane.
+    const double t = 0.6;
+    std::string box = kBlackGround;
+    box += pane({{-1, 1, -1}, {1, 1, -1}, {1, 1, 1}, {-1, 1, 1}}, t);
+    box += pane({{-1, 0, -1}, {-1, 1, -1}, {-1, 1, 1}, {-1, 0, 1}}, t);
+    box += pane({{1, 0, -1}, {1, 1, -1}, {1, 1, 1}, {1, 0, 1}}, t);
+    box += pane({{-1, 0, -1}, {1, 0, -1}, {1, 1, -1}, {-1, 1, -1}}, t);
+    box += pane({{-1, 0, 1}, {1, 0, 1}, {1, 1, 1}, {-1, 1, 1}}, t);
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Uniform;
+    daylight.sun = SunPosition{20.0, 35.0};
+    daylight.sun_irradiance = 4.0;
+    const double open = kPi + 4.0 * std::sin(35.0 * kDegree);
+    const Bake baked = bakeWith(dir, box, daylight,
+                                {probe({0, 0.3, 0}, {0, 1, 0}), probe({0.5, 0.01, -0.4}, {0, 1, 0}),
+                                 probe({0, 3.0, 0}, {0, 1, 0})});
+    checkWithin(baked.probe_irradiance[0].x, t * open, 0.01, "under the glass");
+    checkWithin(baked.probe_irradiance[1].x, t * open, 0.01, "under the glass, near a corner");
+    checkWithin(baked.probe_irradiance[2].x, open, 0.01, "above it");
 }

@@ -7,6 +7,7 @@
 #include <assimp/DefaultIOStream.h>
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
+#include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
 #include <assimp/Logger.hpp>
 #include <assimp/postprocess.h>
@@ -200,8 +201,21 @@ Material convertMaterial(const aiScene& ai, const aiMaterial& source, const std:
     aiColor3D color;
     if (source.Get(AI_MATKEY_COLOR_DIFFUSE, color) == AI_SUCCESS) material.reflectance = toVec3(color);
     if (source.Get(AI_MATKEY_COLOR_EMISSIVE, color) == AI_SUCCESS) material.emission = toVec3(color);
+    // Light through the surface (Material::transparency): MTL d / Tr and glTF's BLEND alpha as
+    // opacity, KHR_materials_transmission's factor. glTF OPAQUE ignores the alpha; MASK cuts the
+    // surface out where the alpha is low, which a material-wide value cannot: baked opaque, warned.
     float opacity = 1.0f;
-    if (source.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) material.transparency = 1.0f - opacity;
+    aiString alpha_mode;
+    const bool gltf_alpha = source.Get(AI_MATKEY_GLTF_ALPHAMODE, alpha_mode) == AI_SUCCESS;
+    const std::string mode = gltf_alpha ? alpha_mode.C_Str() : "";
+    if (source.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && (!gltf_alpha || mode == "BLEND"))
+        material.transparency = 1.0f - opacity;
+    float transmission = 0.0f;
+    if (source.Get(AI_MATKEY_TRANSMISSION_FACTOR, transmission) == AI_SUCCESS)
+        material.transparency = std::max(material.transparency, transmission);
+    if (mode == "MASK")
+        diagnostics.warning(material.location, "material '" + material.name +
+                                                   "': alphaMode MASK (cut-out) is not modelled; baked opaque");
     material.base_color_texture = textureRef(ai, source, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}, path, diagnostics);
     material.emissive_texture = textureRef(ai, source, {aiTextureType_EMISSIVE}, path, diagnostics);
     material.normal_texture = textureRef(ai, source, {aiTextureType_NORMALS}, path, diagnostics);
