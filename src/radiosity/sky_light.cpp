@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -172,6 +173,46 @@ private:
     DVec3 p_, n_, t_, b_;
 };
 
+// The bilinear interpolation of the corner values h over the convex quad v (in order) at p's
+// projection onto its plane (inverse bilinear map, clamped to the quad); nullopt when degenerate.
+std::optional<DVec3> bilinearInQuad(const DVec3* v, const DVec3* h, const DVec3& normal, const DVec3& p) {
+    const DVec3 x_axis = v[1] - v[0];
+    const double length = glm::length(x_axis);
+    if (!(length > 0.0)) return std::nullopt;
+    const DVec3 ex = x_axis / length, ey = glm::cross(normal, ex);
+    auto flat = [&](const DVec3& q) { return DVec2(glm::dot(q - v[0], ex), glm::dot(q - v[0], ey)); };
+    auto cross2 = [](const DVec2& a, const DVec2& b) { return a.x * b.y - a.y * b.x; };
+    const DVec2 b = flat(v[1]), c = flat(v[2]), d = flat(v[3]), q = flat(p);
+    const DVec2 e = b, f = d, g = c - b - d;  // p = e s + f t + g s t, corner 0 at the origin
+    const double k2 = cross2(g, f), k1 = cross2(e, f) + cross2(q, g), k0 = cross2(q, e);
+    const double scale = std::abs(cross2(e, f));
+    if (!(scale > 0.0)) return std::nullopt;
+    double s = 0.0, t = 0.0;
+    auto sAt = [&](double tt) {
+        const DVec2 den = e + g * tt;
+        return std::abs(den.x) > std::abs(den.y) ? (q.x - f.x * tt) / den.x : (q.y - f.y * tt) / den.y;
+    };
+    if (std::abs(k2) <= 1e-9 * scale) {
+        t = -k0 / k1;
+        s = sAt(t);
+    } else {
+        const double w = k1 * k1 - 4.0 * k0 * k2;
+        if (w < 0.0) return std::nullopt;
+        const double root = std::sqrt(w);
+        t = (-k1 - root) / (2.0 * k2);
+        s = sAt(t);
+        if (!(s >= -1e-9 && s <= 1.0 + 1e-9 && t >= -1e-9 && t <= 1.0 + 1e-9)) {
+            const double t2 = (-k1 + root) / (2.0 * k2), s2 = sAt(t2);
+            if (std::abs(std::clamp(t2, 0.0, 1.0) - t2) + std::abs(std::clamp(s2, 0.0, 1.0) - s2) <
+                std::abs(std::clamp(t, 0.0, 1.0) - t) + std::abs(std::clamp(s, 0.0, 1.0) - s))
+                s = s2, t = t2;
+        }
+    }
+    if (!std::isfinite(s) || !std::isfinite(t)) return std::nullopt;
+    s = std::clamp(s, 0.0, 1.0), t = std::clamp(t, 0.0, 1.0);
+    return h[0] * ((1 - s) * (1 - t)) + h[1] * (s * (1 - t)) + h[2] * (s * t) + h[3] * ((1 - s) * t);
+}
+
 }  // namespace
 
 DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_world, const DVec3& n_world,
@@ -220,6 +261,8 @@ DVec3 skyInElement(const Solution& solution, uint32_t element, const DVec3& p) {
     const Element& e = solution.elements[element];
     const DVec3* v = solution.vertices.data() + e.first_vertex;
     const DVec3* h = solution.vertex_sky.data() + e.first_vertex;
+    if (e.vertex_count == 4)
+        if (const std::optional<DVec3> value = bilinearInQuad(v, h, e.normal, p)) return *value;
     // The fan triangle (0, k, k + 1) that holds p's projection best (its least barycentric
     // coordinate the largest), weights clamped to it: a texel's sample point may lie a little
     // outside its leaf.

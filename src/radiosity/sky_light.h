@@ -32,7 +32,8 @@ DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_worl
                     const SkyQuadrature& quadrature, size_t* rays_cast = nullptr);
 
 // The sky at point p (on the plane of) element `element`, from the sky at its corners
-// (Solution::vertex_sky): linear over the fan of triangles from its first corner.
+// (Solution::vertex_sky): bilinear over a quad, else linear over the fan of triangles from its
+// first corner.
 DVec3 skyInElement(const Solution& solution, uint32_t element, const DVec3& p);
 
 }  // namespace radbake

@@ -86,6 +86,12 @@ TEST_CASE("bake: every numeric option refuses NaN, infinities, empty strings and
                              {"--max-texels", notFiniteAnd({"0", "-1", "99999999999999999999"})},
                              {"--unit-scale", notFiniteAnd({"0", "-1", "1e-7", "1e7"})},
                              {"--emission-scale", notFiniteAnd({"-1", "1e7"})},
+                             {"--sky-radiance", notFiniteAnd({"-1", "1e10"})},
+                             {"--sun-irradiance", notFiniteAnd({"-1", "1e10"})},
+                             {"--sun-diameter", notFiniteAnd({"-0.1", "91"})},
+                             {"--sun", {"10", "10,95", "nan,10", "10,-91", "a,b", "''", "10,20,30"}},
+                             {"--sky", {"cloudy", "''", "Uniform"}},
+                             {"--up", {"y", "+w", "''", "up"}},
                          });
     CHECK_FALSE(fs::exists(out));
 }
