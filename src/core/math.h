@@ -60,6 +60,18 @@ inline uint64_t mixHash(uint64_t h, uint64_t v) {
     return h * 0xbf58476d1ce4e5b9ull;
 }
 
+// Shirley and Chiu's concentric map: the point (a, b) of the square [-1, 1]^2 onto the unit disc,
+// preserving areas up to the constant pi / 4 and keeping neighbours near.
+inline DVec2 concentricDisc(double a, double b) {
+    if (a == 0.0 && b == 0.0) return DVec2(0.0);
+    if (std::abs(a) > std::abs(b)) {
+        const double phi = 0.25 * kPi * (b / a);
+        return a * DVec2(std::cos(phi), std::sin(phi));
+    }
+    const double phi = 0.5 * kPi - 0.25 * kPi * (a / b);
+    return b * DVec2(std::cos(phi), std::sin(phi));
+}
+
 inline bool isFinite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

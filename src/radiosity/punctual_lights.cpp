@@ -48,8 +48,8 @@ DVec3 discIrradiance(const DVec3& power, double angular_diameter, const RayCaste
     const double spread = std::tan(0.5 * std::min(angular_diameter, 0.99 * kPi));
     double sum = 0.0, facing = 0.0;
     int seen = 0, tried = 0;
-    auto add = [&](double r, double phi) {
-        const DVec3 d = glm::normalize(towards_light + spread * r * (std::cos(phi) * e1 + std::sin(phi) * e2));
+    auto add = [&](const DVec2& disc) {  // a point of the unit disc
+        const DVec3 d = glm::normalize(towards_light + spread * (disc.x * e1 + disc.y * e2));
         facing += glm::dot(d, towards_light);
         const double cosine = glm::dot(n_world, d);
         if (!(cosine > 0.0)) return;
@@ -63,17 +63,17 @@ DVec3 discIrradiance(const DVec3& power, double angular_diameter, const RayCaste
         sum += cosine * through, ++seen;
     };
     constexpr int kRing = 8;
-    for (int k = 0; k < kRing; ++k) add(0.9, (k + 0.5) * 2.0 * kPi / kRing);
+    for (int k = 0; k < kRing; ++k) {
+        const double phi = (k + 0.5) * 2.0 * kPi / kRing;
+        add(0.9 * DVec2(std::cos(phi), std::sin(phi)));
+    }
     if (seen != 0 && seen != tried) {
-        // Cell centres of a 6 x 6 grid on the square, mapped onto the disc by Shirley and Chiu's
-        // concentric map (equal areas).
+        // Cell centres of a 6 x 6 grid on the square, mapped onto the disc by equal areas.
         constexpr int kGrid = 6;
         sum = facing = 0.0;
         for (int i = 0; i < kGrid; ++i)
             for (int j = 0; j < kGrid; ++j) {
-                const double a = 2.0 * (i + 0.5) / kGrid - 1.0, b = 2.0 * (j + 0.5) / kGrid - 1.0;
-                if (std::abs(a) > std::abs(b)) add(a, 0.25 * kPi * (b / a));
-                else add(b, 0.5 * kPi - 0.25 * kPi * (a / b));
+                add(concentricDisc(2.0 * (i + 0.5) / kGrid - 1.0, 2.0 * (j + 0.5) / kGrid - 1.0));
             }
     }
     return facing > 0.0 ? power * (sum / facing) : DVec3(0.0);

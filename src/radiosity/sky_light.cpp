@@ -50,7 +50,7 @@ public:
     }
 
     // The samples at (u[k], v[k]), their rays cast together: the square onto the unit disc by
-    // Shirley and Chiu's concentric map (equal areas, the normal at the centre), then onto the
+    // the concentric map (equal areas, the normal at the centre), then onto the
     // hemisphere by the equal-area azimuthal projection (1 - cos theta = r^2), so d omega is
     // 2 pi du dv: as many samples near the horizon, where a window seen at a grazing angle lies, as
     // anywhere else.
@@ -61,13 +61,9 @@ public:
         std::array<float, kBatch> through;
         size_t cast = 0;
         for (size_t k = 0; k < out.size(); ++k) {
-            const double a = 2.0 * u[k] - 1.0, b = 2.0 * v[k] - 1.0;
-            double r = 0.0, phi = 0.0;
-            if (std::abs(a) > std::abs(b)) r = a, phi = 0.25 * kPi * (b / a);
-            else if (b != 0.0) r = b, phi = 0.5 * kPi - 0.25 * kPi * (a / b);
-            // r may be negative (the concentric map's other half-plane): sin_t keeps its sign.
-            const double cos_t = 1.0 - r * r, sin_t = r * std::sqrt(std::max(0.0, 2.0 - r * r));
-            const DVec3 d = glm::normalize(t_ * (sin_t * std::cos(phi)) + b_ * (sin_t * std::sin(phi)) + n_ * cos_t);
+            const DVec2 disc = concentricDisc(2.0 * u[k] - 1.0, 2.0 * v[k] - 1.0);
+            const double r2 = glm::dot(disc, disc), cos_t = 1.0 - r2, lift = std::sqrt(std::max(0.0, 2.0 - r2));
+            const DVec3 d = glm::normalize(t_ * (disc.x * lift) + b_ * (disc.y * lift) + n_ * cos_t);
             const DVec3 radiance = skyRadiance(sky_, d);
             if (radiance == DVec3(0.0)) {
                 out[k] = {DVec3(0.0), Seen::Nothing};
