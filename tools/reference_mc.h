@@ -45,8 +45,8 @@
 //
 // The sky (Scene::sky, scene/daylight.h): a path whose cosine-sampled ray leaves the scene adds
 // pi L_sky(direction) times the throughput (L_sky 0 at and below the horizon; the uniform sky's
-// radiance, or the CIE overcast sky's Lz (1 + 2 cos theta) / 3 above it), implemented here on
-// its own. Unbiased, not light-sampled: a sky seen through a small window needs many paths.
+// radiance, or the CIE overcast sky's Lz (1 + 2 cos theta) / 3 above it; a VRML97 Background's
+// colour ramps over the whole sphere), implemented here on its own. Unbiased, not light-sampled: a sky seen through a small window needs many paths.
 //
 // Determinism: the random stream of probe i depends only on (seed, i), so results are
 // identical for any thread count.
@@ -109,9 +109,31 @@ struct McSky {
     SkyModel model = SkyModel::None;
     DVec3 radiance{0.0};
     DVec3 up{0.0, 1.0, 0.0};
+    BackgroundSky background;
+
+    // A Background's ramp: colour k at angle a_k (a_0 = 0, a_k = angles[k - 1]), linear between.
+    static DVec3 ramp(const std::vector<float>& angles, const std::vector<Vec3>& colours, double angle) {
+        if (colours.empty()) return DVec3(0.0);
+        const size_t n = std::min(colours.size(), angles.size() + 1);
+        for (size_t k = 1; k < n; ++k) {
+            const double a0 = k == 1 ? 0.0 : angles[k - 2], a1 = angles[k - 1];
+            if (angle < a1) {
+                const double w = a1 > a0 ? std::max(0.0, angle - a0) / (a1 - a0) : 1.0;
+                return DVec3(colours[k - 1]) * (1.0 - w) + DVec3(colours[k]) * w;
+            }
+        }
+        return DVec3(colours[n - 1]);
+    }
 
     DVec3 arriving(const DVec3& direction) const {
         const double c = glm::dot(direction, up) / glm::length(up);
+        if (model == SkyModel::Background) {
+            const double zenith = std::acos(std::clamp(c, -1.0, 1.0)), nadir = kPi - zenith;
+            const auto& b = background;
+            if (!b.ground_color.empty() && !b.ground_angle.empty() && nadir <= b.ground_angle.back())
+                return radiance * ramp(b.ground_angle, b.ground_color, nadir);
+            return radiance * ramp(b.sky_angle, b.sky_color, zenith);
+        }
         if (model == SkyModel::None || !(c > 0.0)) return DVec3(0.0);
         return model == SkyModel::Overcast ? radiance * ((1.0 + 2.0 * c) / 3.0) : radiance;
     }
@@ -183,7 +205,7 @@ public:
         }
         extent_ = triangles_.empty() ? 0.0 : glm::length(hi - lo);
         lights_ = readLights(scene);
-        sky_ = McSky{scene.sky.model, DVec3(scene.sky.radiance), DVec3(scene.sky.up)};
+        sky_ = McSky{scene.sky.model, DVec3(scene.sky.radiance), DVec3(scene.sky.up), scene.sky.background};
         order_.resize(triangles_.size());
         for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
         if (!triangles_.empty()) build(0, static_cast<uint32_t>(order_.size()));

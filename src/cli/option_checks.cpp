@@ -93,8 +93,9 @@ void addDaylightOptions(CLI::App& command, DaylightOptions& daylight) {
             "--sky", [&daylight](const std::string& text) { daylight.sky = *parseSkyModel(text); },
             "Light the scene by a sky at infinity, black below the horizon: uniform (radiance --sky-radiance "
             "everywhere), overcast (the CIE overcast sky, --sky-radiance at the zenith, a third of it at the "
-            "horizon) or none")
-        ->check(CLI::IsMember({"none", "uniform", "overcast"}))
+            "horizon), background (the file's VRML97 Background colours times --sky-radiance, over the whole "
+            "sphere) or none")
+        ->check(CLI::IsMember({"none", "uniform", "overcast", "background"}))
         ->default_str("none")
         ->type_name("MODEL");
     command.add_option("--sky-radiance", daylight.sky_radiance,

@@ -111,7 +111,11 @@ std::optional<Scene> importPhases(const std::string& path, const ImportOptions& 
             scene.input_files.push_back(normal);
     }
     applyScales(scene, options);
-    addDaylight(scene, options.daylight);  // after the scales: --emission-scale is the file's emitters only
+    // After the scales: --emission-scale is the file's emitters only.
+    if (const std::string problem = addDaylight(scene, options.daylight); !problem.empty()) {
+        diagnostics.error({path, 0, 0}, problem);
+        return std::nullopt;
+    }
     // After the emission scale (a textured emission is the scaled colour times the texture),
     // before validation (which clamps textured reflectance as it does the materials').
     phase = "reading textures";

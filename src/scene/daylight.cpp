@@ -1,5 +1,6 @@
 #include "scene/daylight.h"
 
+#include <algorithm>
 #include <charconv>
 #include <limits>
 #include <cmath>
@@ -39,6 +40,7 @@ std::optional<SkyModel> parseSkyModel(std::string_view text) {
     if (text == "none") return SkyModel::None;
     if (text == "uniform") return SkyModel::Uniform;
     if (text == "overcast") return SkyModel::Overcast;
+    if (text == "background") return SkyModel::Background;
     return std::nullopt;
 }
 
@@ -47,6 +49,7 @@ const char* skyModelName(SkyModel model) {
         case SkyModel::None: return "none";
         case SkyModel::Uniform: return "uniform";
         case SkyModel::Overcast: return "overcast";
+        case SkyModel::Background: return "background";
     }
     return "none";
 }
@@ -98,7 +101,11 @@ std::string checkDaylight(const DaylightOptions& o) {
     return {};
 }
 
-void addDaylight(Scene& scene, const DaylightOptions& options) {
+std::string addDaylight(Scene& scene, const DaylightOptions& options) {
+    if (options.sky == SkyModel::Background) {
+        if (!scene.background) return "--sky background: the scene has no VRML97 Background node";
+        scene.sky.background = *scene.background;
+    }
     if (options.sky != SkyModel::None) {
         scene.sky.model = options.sky;
         scene.sky.radiance = Vec3(static_cast<float>(options.sky_radiance));
@@ -113,15 +120,45 @@ void addDaylight(Scene& scene, const DaylightOptions& options) {
         sun.radius = std::numeric_limits<float>::infinity();
         scene.lights.push_back(sun);
     }
+    return {};
 }
+
+namespace {
+
+// The colour at `angle` along a VRML97 Background's colour ramp (angles[i - 1] holds colours[i]).
+Vec3 rampColour(const std::vector<float>& angles, const std::vector<Vec3>& colours, double angle) {
+    if (colours.empty()) return Vec3(0.0f);
+    if (angles.empty() || angle <= 0.0) return colours[0];
+    for (size_t i = 0; i < angles.size() && i + 1 < colours.size(); ++i) {
+        const double from = i == 0 ? 0.0 : angles[i - 1], to = angles[i];
+        if (angle <= to) {
+            const double w = to > from ? (angle - from) / (to - from) : 1.0;
+            return colours[i] + float(std::clamp(w, 0.0, 1.0)) * (colours[i + 1] - colours[i]);
+        }
+    }
+    return colours[std::min(angles.size(), colours.size() - 1)];
+}
+
+}  // namespace
 
 DVec3 skyRadiance(const Sky& sky, const DVec3& direction) {
     const double cos_zenith = glm::dot(direction, DVec3(sky.up));
+    if (sky.model == SkyModel::Background) {
+        const BackgroundSky& b = sky.background;
+        const double zenith = std::acos(std::clamp(cos_zenith, -1.0, 1.0)), nadir = kPi - zenith;
+        // The ground is drawn over the sky up to its last angle (with at least two colours).
+        if (!b.ground_color.empty() && !b.ground_angle.empty() && nadir <= b.ground_angle.back())
+            return DVec3(sky.radiance) * DVec3(rampColour(b.ground_angle, b.ground_color, nadir));
+        if (!b.ground_color.empty() && b.ground_angle.empty() && nadir <= 0.0)
+            return DVec3(sky.radiance) * DVec3(b.ground_color[0]);
+        return DVec3(sky.radiance) * DVec3(rampColour(b.sky_angle, b.sky_color, zenith));
+    }
     if (!(cos_zenith > 0.0)) return DVec3(0.0);
     switch (sky.model) {
         case SkyModel::None: return DVec3(0.0);
         case SkyModel::Uniform: return DVec3(sky.radiance);
         case SkyModel::Overcast: return DVec3(sky.radiance) * ((1.0 + 2.0 * cos_zenith) / 3.0);
+        case SkyModel::Background: break;
     }
     return DVec3(0.0);
 }

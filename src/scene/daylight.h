@@ -36,7 +36,7 @@ struct DaylightOptions {
     bool any() const { return sky != SkyModel::None || sun.has_value(); }
 };
 
-// "uniform", "overcast" (and "none"); nullopt for anything else.
+// "uniform", "overcast", "background" (and "none"); nullopt for anything else.
 std::optional<SkyModel> parseSkyModel(std::string_view text);
 const char* skyModelName(SkyModel model);
 // "+y", "-z", ... (a sign is required); nullopt for anything else.
@@ -51,12 +51,14 @@ DVec3 sunDirection(const SunPosition& sun, const Vec3& up);
 // An empty string when the options are usable, else what is wrong (for a located error).
 std::string checkDaylight(const DaylightOptions& options);
 
-// Sets scene.sky and appends the sun (a directional Light lighting every mesh) as the options say.
-void addDaylight(Scene& scene, const DaylightOptions& options);
+// Sets scene.sky and appends the sun (a directional Light lighting every mesh) as the options say;
+// what is wrong (--sky background without a Background node) when it cannot, else empty.
+std::string addDaylight(Scene& scene, const DaylightOptions& options);
 
-// The sky's radiance arriving from unit `direction` (travelling against it): 0 at and below the
-// horizon; the uniform sky's radiance above it; the CIE overcast sky's
-// L(theta) = Lz (1 + 2 cos theta) / 3, theta from the zenith.
+// The sky's radiance arriving from unit `direction` (travelling against it): for the uniform and
+// overcast skies 0 at and below the horizon, the uniform sky's radiance above it, the CIE overcast
+// sky's L(theta) = Lz (1 + 2 cos theta) / 3 (theta from the zenith); for a Background its
+// colours over the whole sphere (BackgroundSky) times Sky::radiance.
 DVec3 skyRadiance(const Sky& sky, const DVec3& direction);
 
 }  // namespace radbake

@@ -116,10 +116,20 @@ struct Light {
 
 // Light from every direction above the horizon, at infinity (scene/daylight.h: its radiance by
 // direction). Below the horizon (the plane through each receiver normal to `up`) it is black.
-enum class SkyModel { None, Uniform, Overcast };
+enum class SkyModel { None, Uniform, Overcast, Background };
+
+// A VRML97 Background's sky and ground (ISO/IEC 14772-1, 6.5): sky_color[0] at the zenith,
+// sky_color[i] at sky_angle[i - 1] (radians from the zenith), linear between, the last colour
+// beyond; the ground likewise from the nadir, drawn over the sky within its last angle.
+struct BackgroundSky {
+    std::vector<float> sky_angle, ground_angle;
+    std::vector<Vec3> sky_color{Vec3(0.0f)}, ground_color;
+    SourceLocation location;
+};
 
 struct Sky {
     SkyModel model = SkyModel::None;
+    BackgroundSky background;  // SkyModel::Background: its colours, times `radiance`
     // W sr^-1 m^-2 per channel: the uniform sky's radiance, the overcast sky's at the zenith.
     Vec3 radiance{1.0f};
     Vec3 up{0.0f, 1.0f, 0.0f};  // unit, world
@@ -151,6 +161,8 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Light> lights;
     Sky sky;  // none from a file: set by the import's daylight options (scene/daylight.h)
+    // The file's first VRML97 Background, which --sky background lights the scene with.
+    std::optional<BackgroundSky> background;
     std::vector<Camera> cameras;
     // Every file the import read, the scene file first, each once (Inline'd and EXTERNPROTO
     // files, MTL files, ...): what a depfile names and what provenance hashes.

@@ -101,3 +101,13 @@ TEST_CASE("reference MC daylight: a black pane of transmission t over every sky 
     const reference::McProbeResult lit = estimateAt(sunny, {0, 0, 0.3}, {0, 0, 1}, 64);
     CHECK(lit.irradiance.x == doctest::Approx(0.6 * 25.0 * std::sin(kPi / 3)).epsilon(1e-6));
 }
+
+TEST_CASE("reference MC daylight: a Background's sky ramp, pi L (zenith + horizon) / 2 facing up") {
+    Scene scene = blackGround({});
+    scene.sky.model = SkyModel::Background;
+    scene.sky.up = Vec3(0, 0, 1);
+    scene.sky.radiance = Vec3(2.0f);
+    scene.sky.background.sky_color = {Vec3(0.2f), Vec3(1.0f)};
+    scene.sky.background.sky_angle = {1.5707963f};
+    checkEstimate(estimateAt(scene, {0, 0, 1}, {0, 0, 1}, 65536), kPi * 2.0 * 0.6, 0.01);
+}

@@ -350,3 +350,38 @@ TEST_CASE("a black pane of transmission t over every sky direction: t times the 
     checkWithin(baked.probe_irradiance[1].x, t * open, 0.01, "under the glass, near a corner");
     checkWithin(baked.probe_irradiance[2].x, open, 0.01, "above it");
 }
+
+TEST_CASE("--sky background: a VRML97 Background's colour ramps, times --sky-radiance") {
+    TempDir dir;
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Background;
+    daylight.sky_radiance = 2.0;
+    // Sky from 0.2 at the zenith to 1.0 at the horizon (linear in the angle): a horizontal receiver
+    // gets pi L (a + b) / 2.
+    const std::string ramp = "Background { skyColor [ 0.2 0.2 0.2, 1 1 1 ] skyAngle [ 1.5707963 ] }\n";
+    const Bake up = bakeWith(dir, ramp + kBlackGround, daylight, {probe({0, 0.5, 0}, {0, 1, 0})});
+    checkWithin(up.probe_irradiance[0].x, kPi * 2.0 * (0.2 + 1.0) / 2, 0.01, "ramp, horizontal");
+    // A grey sky over a green ground, no ground plane: a vertical receiver gets pi L (sky + ground) / 2.
+    const std::string split =
+        "Background { skyColor [ 0.5 0.5 0.5 ] groundColor [ 0 0.3 0, 0 0.3 0 ] groundAngle [ 1.5707963 ] }\n";
+    const std::string speck = quad({{100, 100, 100}, {100, 100, 100.1}, {100.1, 100, 100.1}, {100.1, 100, 100}}, 0.0);
+    const Bake side = bakeWith(dir, split + speck, daylight, {probe({0, 0, 0}, {1, 0, 0}), probe({0, 0, 0}, {0, -1, 0})});
+    checkWithin(side.probe_irradiance[0].x, kPi * 2.0 * 0.5 / 2, 0.01, "vertical, red: the sky half");
+    checkWithin(side.probe_irradiance[0].y, kPi * 2.0 * (0.5 + 0.3) / 2, 0.01, "vertical, green: both halves");
+    checkWithin(side.probe_irradiance[1].y, kPi * 2.0 * 0.3, 0.01, "facing down: the ground");
+}
+
+TEST_CASE("--sky background without a Background node is a located error") {
+    TempDir dir;
+    BakeOptions options = BakeOptions::forQuality(Quality::Draft);
+    options.import.daylight.sky = SkyModel::Background;
+    Progress progress(false);
+    Diagnostics diagnostics;
+    std::string said;
+    diagnostics.sink = [&](const Diagnostic& d) { said += formatDiagnostic(d) + "\n"; };
+    const std::string path = testfs::writeText(dir, "plain.wrl", "#VRML V2.0 utf8\n" + kBlackGround);
+    const Bake baked = bake(path, options, progress, diagnostics);
+    CHECK(std::string(toString(baked.status)) != "ok");
+    CHECK(said.find("plain.wrl") != std::string::npos);
+    CHECK(said.find("no VRML97 Background") != std::string::npos);
+}

@@ -216,6 +216,8 @@ void Vrml97Builder::visit(const NodePtr& start, const DMat4& m, int depth) {
         light(*node, m);
     } else if (type == "Viewpoint") {
         viewpoint(*node, m);
+    } else if (type == "Background") {
+        background(*node);
     } else {
         // Geometry, appearance or property nodes outside a Shape carry nothing to draw.
         warnOnce("misplaced " + type, node->location, type + " node outside a Shape (or where a child is expected) ignored");
@@ -371,6 +373,31 @@ void Vrml97Builder::viewpoint(const Node& node, const DMat4& m) {
     camera.field_of_view = sfFloat(node, "fieldOfView", 0.785398f);
     scene_.cameras.push_back(camera);
     transformAppended(scene_, scene_.meshes.size(), scene_.lights.size(), scene_.cameras.size() - 1, m);
+}
+
+// The first Background is the bound one (VRML97 4.6.10); its panorama images are not read.
+void Vrml97Builder::background(const Node& node) {
+    if (scene_.background) return;
+    BackgroundSky sky;
+    sky.location = node.location;
+    sky.sky_angle = mfFloats(node, "skyAngle");
+    sky.ground_angle = mfFloats(node, "groundAngle");
+    auto colours = [&](std::string_view name) {
+        std::vector<Vec3> out;
+        const std::vector<float>& f = mfFloats(node, name);
+        for (size_t i = 0; i + 2 < f.size(); i += 3) out.push_back(Vec3(f[i], f[i + 1], f[i + 2]));
+        return out;
+    };
+    sky.sky_color = colours("skyColor");
+    if (sky.sky_color.empty() && !node.field("skyColor")) sky.sky_color = {Vec3(0.0f)};  // the default
+    sky.ground_color = colours("groundColor");
+    for (const char* url : {"backUrl", "bottomUrl", "frontUrl", "leftUrl", "rightUrl", "topUrl"})
+        if (!mfStrings(node, url).empty()) {
+            warnOnce("background panorama", node.location,
+                     "Background panorama images (backUrl, ...) are not read: --sky background uses its colours");
+            break;
+        }
+    scene_.background = std::move(sky);
 }
 
 void Vrml97Builder::inlineNode(const Node& node, const DMat4& m) {

@@ -38,6 +38,7 @@ private:
     void inlineNode(const Node& node, const DMat4& m);
     void light(const Node& node, const DMat4& m);
     void viewpoint(const Node& node, const DMat4& m);
+    void background(const Node& node);
     uint32_t materialFor(const NodePtr& appearance);
     void finishMesh(Mesh mesh, const Node& geometry, const DMat4& m);
 

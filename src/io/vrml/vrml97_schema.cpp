@@ -123,12 +123,16 @@ const std::vector<NodeSpec>& nodeSpecs() {
                                              {"translation", T::SFVec3f}})},
             {"Viewpoint", R::Used, {{"fieldOfView", T::SFFloat}, {"jump", T::SFBool}, {"orientation", T::SFRotation},
                                     {"position", T::SFVec3f}, {"description", T::SFString}}},
+            {"Background", R::Used, {{"groundAngle", T::MFFloat}, {"groundColor", T::MFColor},
+                                     {"skyAngle", T::MFFloat}, {"skyColor", T::MFColor}, {"backUrl", T::MFString},
+                                     {"bottomUrl", T::MFString}, {"frontUrl", T::MFString}, {"leftUrl", T::MFString},
+                                     {"rightUrl", T::MFString}, {"topUrl", T::MFString}}},
             {"IndexedLineSet", R::Unsupported, {}},
             {"PointSet", R::Unsupported, {}},
             {"Text", R::Unsupported, {}},
         };
         for (std::string_view ignored :
-             {"AudioClip", "Background", "ColorInterpolator", "CoordinateInterpolator", "CylinderSensor", "Fog",
+             {"AudioClip", "ColorInterpolator", "CoordinateInterpolator", "CylinderSensor", "Fog",
               "FontStyle", "MovieTexture", "NavigationInfo", "NormalInterpolator", "OrientationInterpolator",
               "PixelTexture", "PlaneSensor", "PositionInterpolator", "ProximitySensor", "ScalarInterpolator",
               "Script", "Sound", "SphereSensor", "TextureTransform", "TimeSensor",
