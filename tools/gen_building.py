@@ -2,7 +2,7 @@
 """Writes a generated building (issue 11's growth yardstick) as VRML97.
 
     python3 tools/gen_building.py OUT.wrl --rooms NX NY [--panels K] [--boxes B] [--seed S]
-                                  [--lamps all|one|none]
+                                  [--lamps all|one|none] [--windows]
 
 A grid of NX x NY rooms (NX along x, NY along z, y up; each 4 m x 4 m, 3 m high; walls 0.2 m
 thick), every pair of neighbouring rooms joined by a doorway (1 m x 2.1 m, through the wall:
@@ -16,6 +16,9 @@ each other and of the doorways), their faces ceil(K/4) quads a side. Each face h
 vertices (none shared across an edge). Surfaces are one-sided (`solid TRUE`, the default) and
 flat (`creaseAngle 0`). --lamps one lights the first room's lamp only and --lamps none no lamp
 (the others stay as white unlit fixtures): the scenes where the cost must follow the light.
+--windows cuts a window (1.2 m wide, 1.2 m high, its sill 0.9 m up) in the middle of every outside
+wall and glazes it with a pane (transparency 0.7, diffuseColor 0.1), for daylight (issue 30:
+`radbake bake OUT.wrl --sky overcast --sun 135,35 --lamps none`).
 
 Prints the counts; the triangle count is twice the quad count (the readers split every
 planar quad into two triangles). The arguments used for the scale yardsticks (docs/scale.md):
@@ -90,12 +93,19 @@ def panels(length, k, full):
     return max(1, int(math.ceil(k * length / full - 1e-9)))
 
 
-def wall(mesh, base, along, length, normal, k, door):
-    """A wall base + s along + t y, s in [0, length], t in [0, H]; door = (s0, s1) or None."""
+def wall(mesh, base, along, length, normal, k, door, window=None):
+    """A wall base + s along + t y, s in [0, length], t in [0, H]; door = (s0, s1) or None;
+    window = (s0, s1, t0, t1) or None (an opening with a sill, for an outside wall)."""
     def sub(s0, s1, t0, t1):
         mesh.rect(add(base, scale(along, s0), scale(Y, t0)), scale(along, s1 - s0), scale(Y, t1 - t0),
                   panels(s1 - s0, k, length), panels(t1 - t0, k, ROOM_H), normal)
-    if door is None:
+    if window is not None:
+        s0, s1, t0, t1 = window
+        sub(0.0, s0, 0.0, ROOM_H)
+        sub(s1, length, 0.0, ROOM_H)
+        sub(s0, s1, 0.0, t0)
+        sub(s0, s1, t1, ROOM_H)
+    elif door is None:
         sub(0.0, length, 0.0, ROOM_H)
     else:
         s0, s1 = door
@@ -151,7 +161,10 @@ def place_boxes(rng, count, doors_local):
     return boxes
 
 
-def build(nx, nz, k, box_count, seed):
+WINDOW_W, WINDOW_H, WINDOW_SILL = 1.2, 1.2, 0.9
+
+
+def build(nx, nz, k, box_count, seed, windows=False):
     rng = random.Random(seed)
     pitch_x, pitch_z = ROOM_W + WALL_T, ROOM_D + WALL_T
     # Doorway offsets (start of the opening along the wall), one per shared wall.
@@ -165,6 +178,7 @@ def build(nx, nz, k, box_count, seed):
             if j + 1 < nz:
                 door_z[i, j] = rng.uniform(margin, ROOM_W - margin - DOOR_W)
     shells, lamps, boxes = [], [], []
+    glass = MeshBuilder()
     for j in range(nz):
         for i in range(nx):
             x0, z0 = i * pitch_x, j * pitch_z
@@ -177,10 +191,22 @@ def build(nx, nz, k, box_count, seed):
             south = door_z.get((i, j - 1))
             north = door_z.get((i, j))
             span = lambda s: None if s is None else (s, s + DOOR_W)
-            wall(shell, (x0, 0.0, z0), Z, ROOM_D, X, k, span(west))
-            wall(shell, (x1, 0.0, z0), Z, ROOM_D, (-1.0, 0.0, 0.0), k, span(east))
-            wall(shell, (x0, 0.0, z0), X, ROOM_W, Z, k, span(south))
-            wall(shell, (x0, 0.0, z1), X, ROOM_W, (0.0, 0.0, -1.0), k, span(north))
+            # An outside wall (no neighbour there) gets a window when asked.
+            opening = lambda length: (0.5 * (length - WINDOW_W), 0.5 * (length + WINDOW_W), WINDOW_SILL,
+                                      WINDOW_SILL + WINDOW_H)
+            out_w, out_e = windows and i == 0, windows and i == nx - 1
+            out_s, out_n = windows and j == 0, windows and j == nz - 1
+            wall(shell, (x0, 0.0, z0), Z, ROOM_D, X, k, span(west), opening(ROOM_D) if out_w else None)
+            wall(shell, (x1, 0.0, z0), Z, ROOM_D, (-1.0, 0.0, 0.0), k, span(east), opening(ROOM_D) if out_e else None)
+            wall(shell, (x0, 0.0, z0), X, ROOM_W, Z, k, span(south), opening(ROOM_W) if out_s else None)
+            wall(shell, (x0, 0.0, z1), X, ROOM_W, (0.0, 0.0, -1.0), k, span(north), opening(ROOM_W) if out_n else None)
+            for outside, base, along, length, normal in (
+                    (out_w, (x0, 0.0, z0), Z, ROOM_D, X), (out_e, (x1, 0.0, z0), Z, ROOM_D, (-1.0, 0.0, 0.0)),
+                    (out_s, (x0, 0.0, z0), X, ROOM_W, Z), (out_n, (x0, 0.0, z1), X, ROOM_W, (0.0, 0.0, -1.0))):
+                if outside:
+                    s0, s1, t0, t1 = opening(length)
+                    glass.rect(add(base, scale(along, s0), scale(Y, t0)), scale(along, s1 - s0), scale(Y, t1 - t0),
+                               1, 1, normal)
             if east is not None:
                 tunnel(shell, (x1, 0.0, z0), Z, X, east, east + DOOR_W)
             if north is not None:
@@ -200,7 +226,7 @@ def build(nx, nz, k, box_count, seed):
                 box(room_boxes, x0 + cx, z0 + cz, w, h, d, degrees, k)
             colour = (round(rng.uniform(0.2, 0.8), 3), round(rng.uniform(0.2, 0.8), 3), round(rng.uniform(0.2, 0.8), 3))
             boxes.append((room_boxes, colour))
-    return shells, lamps, boxes
+    return shells, lamps, boxes, glass
 
 
 def fmt(x):
@@ -223,6 +249,8 @@ def main(argv):
     p.add_argument("--panels", type=int, default=4, metavar="K", help="quads a side on every wall, floor and ceiling")
     p.add_argument("--boxes", type=int, default=3, metavar="B", help="boxes per room")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--windows", action="store_true",
+                   help="a glazed window in every outside wall (transparency 0.7), for daylight")
     p.add_argument("--lamps", choices=("all", "one", "none"), default="all",
                    help="which rooms' lamps emit: all (default), the first room's only, or none (the lamps "
                         "stay, as white unlit fixtures)")
@@ -230,8 +258,8 @@ def main(argv):
     nx, nz = args.rooms
     if nx < 1 or nz < 1 or args.panels < 1 or args.boxes < 0:
         p.error("--rooms needs two counts >= 1, --panels >= 1, --boxes >= 0")
-    shells, lamps, boxes = build(nx, nz, args.panels, args.boxes, args.seed)
-    lamps_arg = "" if args.lamps == "all" else " --lamps " + args.lamps
+    shells, lamps, boxes, glass = build(nx, nz, args.panels, args.boxes, args.seed, args.windows)
+    lamps_arg = ("" if args.lamps == "all" else " --lamps " + args.lamps) + (" --windows" if args.windows else "")
     out = ["#VRML V2.0 utf8\n",
            "# generated building: tools/gen_building.py --rooms %d %d --panels %d --boxes %d --seed %d%s\n" % (
                nx, nz, args.panels, args.boxes, args.seed, lamps_arg),
@@ -256,6 +284,10 @@ def main(argv):
         for mesh in (shell, lamps[index], room_boxes):
             quads += len(mesh.quads)
             points += len(mesh.points)
+    if glass.quads:
+        write_ifs(out, glass, "Appearance { material Material { diffuseColor 0.1 0.1 0.1 transparency 0.7 } }")
+        quads += len(glass.quads)
+        points += len(glass.points)
     with open(args.out, "w", newline="\n") as f:
         f.write("".join(out))
     print("%s: %d x %d rooms, %d panels: %d quads, %d triangles, %d vertices" % (
