@@ -332,3 +332,38 @@ TEST_CASE("an empty scene blocks nothing") {
     CHECK(caster->visibleFraction(kSource, kReceiver, 3) == 1.0);
     CHECK_FALSE(caster->segmentBlocked(DVec3(0.0), DVec3(1.0)));
 }
+
+TEST_CASE("ray caster: transmitting surfaces pass their share of light, once per crossing") {
+    // Two panes (t 0.5 and 0.6) at z = 1 and z = 2, an opaque plate at z = 3 over x < 0.
+    Scene scene = sceneOf({rectangleZ(-2, 2, -2, 2, 1), rectangleZ(-2, 2, -2, 2, 2), rectangleZ(-2, 0, -2, 2, 3)});
+    scene.materials.resize(3);
+    scene.materials[1].transparency = 0.5f;
+    scene.materials[2].transparency = 0.6f;
+    scene.meshes[0].material = 1;
+    scene.meshes[1].material = 2;
+    scene.meshes[2].material = 0;
+    const auto caster = buildOrFail(scene);
+    CHECK(caster->transmittance({0.5, 0.3, 0.5}, {0.5, 0.3, 1.5}) == doctest::Approx(0.5));
+    CHECK(caster->transmittance({0.5, 0.3, 0.5}, {0.7, 0.1, 2.5}) == doctest::Approx(0.3));
+    CHECK(caster->transmittance({0.5, 0.3, 0.5}, {0.5, 0.3, 3.5}) == doctest::Approx(0.3));  // beside the plate
+    CHECK(caster->transmittance({-0.5, 0.3, 0.5}, {-0.5, 0.3, 3.5}) == 0.0);                // through it
+    CHECK(!caster->segmentBlocked({0.5, 0.3, 0.5}, {0.5, 0.3, 2.5}));
+    CHECK(caster->segmentBlocked({-0.5, 0.3, 0.5}, {-0.5, 0.3, 3.5}));
+    // A segment through the diagonal seam of a pane's two triangles crosses it once.
+    CHECK(caster->transmittance({0.25, 0.25, 0.5}, {0.25, 0.25, 1.5}) == doctest::Approx(0.5));
+    CHECK(caster->transmittance({-1.0, -1.0, 0.5}, {1.0, 1.0, 1.5}) == doctest::Approx(0.5));
+    // The packets agree with the single segments, and the weighted count and the fractions sum
+    // transmittances.
+    const std::vector<DVec3> to = {{0.5, 0.3, 1.5}, {0.5, 0.3, 2.5}, {-0.5, 0.3, 3.5}, {1.0, 1.0, 0.9},
+                                   {0.25, 0.25, 1.5}};
+    std::vector<float> through(to.size());
+    caster->transmittanceFrom({0.5, 0.3, 0.5}, to, through);
+    for (size_t k = 0; k < to.size(); ++k)
+        CHECK(through[k] == doctest::Approx(caster->transmittance({0.5, 0.3, 0.5}, to[k])));
+    const std::vector<double> weights(to.size(), 1.0);
+    double open_weight = 0.0;
+    CHECK(caster->countOpenFrom({0.5, 0.3, 0.5}, to, weights, open_weight) == 4);
+    CHECK(open_weight == doctest::Approx(0.5 + 0.3 + 0.0 + 1.0 + 0.5).epsilon(1e-6));
+    CHECK(caster->visibleFraction(rectangleZ(0.1, 0.9, 0.1, 0.9, 0.5), rectangleZ(0.1, 0.9, 0.1, 0.9, 2.5), 3) ==
+          doctest::Approx(0.3).epsilon(1e-6));
+}
