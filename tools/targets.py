@@ -59,7 +59,7 @@ import harness  # noqa: E402  (harness.compare: the paper and analytic scenes' p
 
 # --- The targets ------------------------------------------------------------------------------
 # One row per target: (name, issue, state, mode, measurement, figure, comparison, threshold).
-#   state:       "met" targets of resolved issues that must stay met; "open" for issues 27 and 28.
+#   state:       "met" targets of resolved issues that must stay met; "open" for issues 27, 28 and 30.
 #   mode:        "quick" or "long" (--long runs both).
 #   measurement: a key of MEASUREMENTS below (what is run; each runs once however many rows use it).
 #   figure:      a key of the dict that measurement returns.
@@ -143,6 +143,10 @@ TARGETS = [
     ("graz.wrl: vertices phase / solve", 12, "met", "long", "graz_bake", "vertices_over_solve", "<=", 1.0),
     ("graz.wrl: bake with lightmaps / --no-lightmaps", 12, "met", "long", "graz_ratio", "ratio", "<=", 2.0),
     ("graz.wrl 44/m: lightmap phase s (about 1M texels)", 27, "open", "long", "graz44", "lightmaps_s", "<=", 60.0),
+    # Issue 30 (daylight): whole bakes with lightmaps (16 texels/m) under an overcast sky and a sun.
+    ("house.wrl, overcast sky and sun: bake with lightmaps s", 30, "open", "long", "daylight_house", "seconds", "<=", 120.0),
+    ("16-room building with windows, sky and sun, lamps off: bake s", 30, "open", "long", "daylight_building",
+     "seconds", "<=", 120.0),
     ("graz.wrl: lightmap vs reference_mc at texels, |bias| %", 27, "open", "long", "graz_texels", "bias", "|x|<=", 1.0),
     ("graz.wrl: lightmap vs reference_mc at texels, median |error| %", 27, "open", "long", "graz_texels", "median",
      "<=", 3.0),
@@ -684,6 +688,14 @@ def m_graz_ratio(r, results):
     return {"ratio": results["graz_bake"]["figures"]["seconds"] / results["graz_nolm"]["figures"]["seconds"]}
 
 
+def m_daylight_building(r):
+    """tools/gen_building.py's 16 rooms with a glazed window in every outside wall, lamps off."""
+    scene = os.path.join(r.cache, "daylight", "building_windows.wrl")
+    os.makedirs(os.path.dirname(scene), exist_ok=True)
+    r.python_tool("gen_building.py", scene, "--rooms", "4", "4", "--panels", "9", "--windows", "--lamps", "none")
+    return r.bake(scene, "daylight_building", "--threads", "2", "--sky", "overcast", "--sun", "135,35")[1]
+
+
 def m_ladder(r):
     work = os.path.join(r.cache, "scale_scenes")
     out, _ = r.run(["bash", os.path.join(HERE, "bench_scale.sh"), r.build, "--scenes",
@@ -761,6 +773,8 @@ MEASUREMENTS = {
     "graz44": (lambda r: r.bake(r.shared("graz"), "graz_44", "--threads", "2", "--read-root", r.scenes,
                                 "--texel-density", "44")[1],
                False, []),
+    "daylight_house": (m_shared_bake("house", "--sky", "overcast", "--sun", "135,35"), False, []),
+    "daylight_building": (m_daylight_building, False, []),
     "classroom_solve": (m_shared_solve("classroom"), False, []),
     "office_solve": (m_shared_solve("office"), False, []),
     "ladder": (m_ladder, False, []),
