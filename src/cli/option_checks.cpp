@@ -91,15 +91,16 @@ void addDaylightOptions(CLI::App& command, DaylightOptions& daylight) {
     command
         .add_option_function<std::string>(
             "--sky", [&daylight](const std::string& text) { daylight.sky = *parseSkyModel(text); },
-            "Light the scene by a sky at infinity, black below the horizon: uniform (radiance --sky-radiance "
-            "everywhere), overcast (the CIE overcast sky, --sky-radiance at the zenith, a third of it at the "
-            "horizon), background (the file's VRML97 Background colours times --sky-radiance, over the whole "
-            "sphere) or none")
+            "Light the scene by a sky at infinity: uniform (radiance --sky-radiance above the horizon), overcast "
+            "(the CIE overcast sky, --sky-radiance at the zenith, a third of it at the horizon; both black below "
+            "it), background (the file's VRML97 Background colours times --sky-radiance, over the whole sphere) "
+            "or none")
         ->check(CLI::IsMember({"none", "uniform", "overcast", "background"}))
         ->default_str("none")
         ->type_name("MODEL");
     command.add_option("--sky-radiance", daylight.sky_radiance,
-                       "The uniform sky's radiance, the overcast sky's zenith radiance, in W sr^-1 m^-2")
+                       "The uniform sky's radiance, the overcast sky's zenith radiance, in W sr^-1 m^-2; "
+                       "multiplies a Background's colours")
         ->check(nonNegativeReal(1e9))
         ->capture_default_str();
     command
