@@ -99,7 +99,8 @@ DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DV
                .use_rays = solution.rays != nullptr};
     for (uint32_t r = 0; r < solution.root_count; ++r) g.visit(r);
     return g.sum +
-           gather::punctualInside(solution, receiver_mesh, receiver_triangle, point_on_surface, normal, &options.sky);
+           gather::punctualInside(solution, receiver_mesh, receiver_triangle, point_on_surface, normal,
+                                  options.sky.grid > 0 ? &options.sky : nullptr);
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ struct ReadoutOptions {
     EdgeCorrection edge_correction = EdgeCorrection::On;
     // The sky's quadrature at a probe and in the exhaustive gather (radiosity/sky_light.h); vertices
     // and texels read through the links take the sky the solve found at their leaf's corners.
-    // Draft (8, 2), medium (12, 3), high (16, 3), reference (24, 4).
+    // Draft (8, 2), medium (12, 3), high (16, 3), reference (24, 4); a grid of 0 leaves the sky out.
     SkyQuadrature sky{12, 3};
 
     static ReadoutOptions forQuality(Quality quality);  // fills every knob from a preset

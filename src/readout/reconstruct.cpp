@@ -376,7 +376,18 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
 DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
                                                const DVec3& normal) const {
     ProbeCounters c;
-    const DVec3 h = surfaceIrradiance(s_, o_, p_world, normal, mesh, triangle, &c);
+    // The sky as every other vertex takes it, from the corners of a leaf of its face at the point
+    // (the solve read it there from inside the face), not by a quadrature of its own.
+    const bool sky = s_.scene && s_.scene->sky.shines();
+    const uint32_t leaf = sky ? readingLeaf(mesh, triangle, p_world, normal) : kNoElement;
+    DVec3 h(0.0);
+    if (leaf != kNoElement) {
+        ReadoutOptions without_sky = o_;
+        without_sky.sky.grid = 0;
+        h = surfaceIrradiance(s_, without_sky, p_world, normal, mesh, triangle, &c) + skyInElement(s_, leaf, p_world);
+    } else {
+        h = surfaceIrradiance(s_, o_, p_world, normal, mesh, triangle, &c);
+    }
     tally(c, 1);
     return h;
 }
