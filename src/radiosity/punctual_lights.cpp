@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/polygon.h"
 #include "visibility/ray_caster.h"
 
 namespace radbake {
@@ -43,8 +44,8 @@ DVec3 strength(const Light& light) {
 // 6 x 6 points over the disc.
 DVec3 discIrradiance(const DVec3& power, double angular_diameter, const RayCaster* caster, const DVec3& p_world,
                      const DVec3& n_world, const DVec3& towards_light, size_t* rays_cast) {
-    const DVec3 helper = std::abs(towards_light.x) > 0.9 ? DVec3(0, 1, 0) : DVec3(1, 0, 0);
-    const DVec3 e1 = glm::normalize(glm::cross(helper, towards_light)), e2 = glm::cross(towards_light, e1);
+    DVec3 e1, e2;
+    tangentFrame(towards_light, e1, e2);
     const double spread = std::tan(0.5 * std::min(angular_diameter, 0.99 * kPi));
     double sum = 0.0, facing = 0.0;
     int seen = 0, tried = 0;

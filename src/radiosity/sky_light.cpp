@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "geometry/polygon.h"
 #include "radiosity/punctual_lights.h"
 #include "radiosity/solution.h"
 #include "scene/daylight.h"
@@ -42,11 +43,10 @@ public:
         const DVec3 along = up - glm::dot(up, n) * n;
         if (glm::length(along) > 1e-6) {
             b_ = glm::normalize(along);
+            t_ = glm::cross(b_, n);
         } else {
-            const DVec3 helper = std::abs(n.x) > 0.9 ? DVec3(0, 1, 0) : DVec3(1, 0, 0);
-            b_ = glm::normalize(glm::cross(n, helper));
+            tangentFrame(n, t_, b_);
         }
-        t_ = glm::cross(b_, n);
     }
 
     // The samples at (u[k], v[k]), their rays cast together: the square onto the unit disc by
