@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
             const std::optional<SkyModel> sky = parseSkyModel(v);
             if (!sky) return usage();
             import.daylight.sky = *sky;
+            if (*sky == SkyModel::Map) import.daylight.sky_map = v;
         } else if (arg == "--up" && (v = value())) {
             const std::optional<Vec3> up = parseUpAxis(v);
             if (!up) return usage();

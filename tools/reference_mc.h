@@ -46,7 +46,7 @@
 // The sky (Scene::sky, scene/daylight.h): a path whose cosine-sampled ray leaves the scene adds
 // pi L_sky(direction) times the throughput (L_sky 0 at and below the horizon; the uniform sky's
 // radiance, or the CIE overcast sky's Lz (1 + 2 cos theta) / 3 above it; a VRML97 Background's
-// colour ramps over the whole sphere), implemented here on its own. Unbiased, not light-sampled: a sky seen through a small window needs many paths.
+// colour ramps over the whole sphere; an environment map's texel), implemented here on its own. Unbiased, not light-sampled: a sky seen through a small window needs many paths.
 //
 // Determinism: the random stream of probe i depends only on (seed, i), so results are
 // identical for any thread count.
@@ -56,6 +56,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <thread>
 #include <vector>
@@ -110,6 +111,23 @@ struct McSky {
     DVec3 radiance{0.0};
     DVec3 up{0.0, 1.0, 0.0};
     BackgroundSky background;
+    std::shared_ptr<const EnvironmentMap> map;
+
+    // The map's texel holding `direction`: the top row at the zenith, the centre column at azimuth 0
+    // (the first axis after up's, x for y up), azimuth growing to the right towards the next axis
+    // (negated for a negative up).
+    DVec3 mapTexel(const DVec3& direction) const {
+        const int axis = std::abs(up.x) > 0.5 ? 0 : std::abs(up.y) > 0.5 ? 1 : 2;
+        const int east = axis == 0 ? 1 : 0, north = axis == 2 ? 1 : 2;
+        const double sign = up[axis] < 0.0 ? -1.0 : 1.0;
+        const DVec3 d = glm::normalize(direction);
+        const double elevation = std::asin(std::clamp(d[axis] * sign, -1.0, 1.0));
+        const double azimuth = std::atan2(d[north] * sign, d[east]);
+        const int x = std::clamp(int((azimuth / (2.0 * kPi) + 0.5) * map->width), 0, map->width - 1);
+        const int y = std::clamp(int((0.5 - elevation / kPi) * map->height), 0, map->height - 1);
+        const float* texel = &map->rgb[(size_t(y) * map->width + x) * 3];
+        return DVec3(texel[0], texel[1], texel[2]);
+    }
 
     // A Background's ramp: colour k at angle a_k (a_0 = 0, a_k = angles[k - 1]), linear between.
     static DVec3 ramp(const std::vector<float>& angles, const std::vector<Vec3>& colours, double angle) {
@@ -127,6 +145,7 @@ struct McSky {
 
     DVec3 arriving(const DVec3& direction) const {
         const double c = glm::dot(direction, up) / glm::length(up);
+        if (model == SkyModel::Map) return map ? radiance * mapTexel(direction) : DVec3(0.0);
         if (model == SkyModel::Background) {
             const double zenith = std::acos(std::clamp(c, -1.0, 1.0)), nadir = kPi - zenith;
             const auto& b = background;
@@ -205,7 +224,8 @@ public:
         }
         extent_ = triangles_.empty() ? 0.0 : glm::length(hi - lo);
         lights_ = readLights(scene);
-        sky_ = McSky{scene.sky.model, DVec3(scene.sky.radiance), DVec3(scene.sky.up), scene.sky.background};
+        sky_ = McSky{scene.sky.model, DVec3(scene.sky.radiance), DVec3(scene.sky.up), scene.sky.background,
+                     scene.sky.map};
         order_.resize(triangles_.size());
         for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
         if (!triangles_.empty()) build(0, static_cast<uint32_t>(order_.size()));

@@ -90,12 +90,22 @@ void addSceneScaleOptions(CLI::App& command, ImportOptions& import) {
 void addDaylightOptions(CLI::App& command, DaylightOptions& daylight) {
     command
         .add_option_function<std::string>(
-            "--sky", [&daylight](const std::string& text) { daylight.sky = *parseSkyModel(text); },
+            "--sky",
+            [&daylight](const std::string& text) {
+                daylight.sky = *parseSkyModel(text);
+                daylight.sky_map = daylight.sky == SkyModel::Map ? text : std::string();
+            },
             "Light the scene by a sky at infinity: uniform (radiance --sky-radiance above the horizon), overcast "
             "(the CIE overcast sky, --sky-radiance at the zenith, a third of it at the horizon; both black below "
-            "it), background (the file's VRML97 Background colours times --sky-radiance, over the whole sphere) "
-            "or none")
-        ->check(CLI::IsMember({"none", "uniform", "overcast", "background"}))
+            "it), background (the file's VRML97 Background colours times --sky-radiance, over the whole sphere), "
+            "FILE.exr (an equirectangular environment map over the whole sphere times --sky-radiance: top row "
+            "the zenith, centre column azimuth 0; a sun drawn in it becomes a directional light) or none")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                return parseSkyModel(text) ? std::string()
+                                           : "'" + text + "' is not none, uniform, overcast, background or a .exr file";
+            },
+            ""))
         ->default_str("none")
         ->type_name("MODEL");
     command.add_option("--sky-radiance", daylight.sky_radiance,

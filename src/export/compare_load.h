@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 
 namespace radbake {
 

@@ -19,7 +19,7 @@
 // float exactly) and "radbake:encoding".
 #include <string>
 
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 
 namespace radbake {
 

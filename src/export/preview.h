@@ -12,7 +12,7 @@
 #include "readout/vertex_bake.h"
 #include "core/diagnostics.h"
 #include "core/parallel.h"
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 #include "scene/scene.h"
 
 namespace radbake {

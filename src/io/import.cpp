@@ -1,10 +1,12 @@
 #include "io/import.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
+#include "core/exr_io.h"
 #include "core/memory.h"
 #include "io/assimp/assimp_reader.h"
 #include "io/vrml/vrml_reader.h"
@@ -42,6 +44,50 @@ std::string firstBytes(const std::string& path, size_t count) {
 
 std::optional<Scene> importPhases(const std::string& path, const ImportOptions& options, Diagnostics& diagnostics,
                                   const char*& phase);
+
+// The environment map --sky names, read whole; null after a located error. A NaN or infinite
+// texel is an error (no light to bake by); a negative one, which some HDR tools leave, is
+// clamped to 0 and counted.
+std::shared_ptr<EnvironmentMap> readEnvironmentMap(const std::string& path, size_t max_bytes, MemoryGauge& memory,
+                                                   Diagnostics& diagnostics) {
+    const SourceLocation at{path, 0, 0};
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        diagnostics.error(at, "cannot open environment map (no such regular file)");
+        return nullptr;
+    }
+    if (std::filesystem::file_size(path, ec) > max_bytes) {
+        diagnostics.error(at, "environment map is larger than the input limit of " + std::to_string(max_bytes) + " bytes");
+        return nullptr;
+    }
+    std::optional<RgbImage> image = readExr(path, diagnostics);
+    if (!image) return nullptr;
+    size_t negative = 0;
+    for (size_t i = 0; i < image->rgb.size(); ++i) {
+        float& value = image->rgb[i];
+        if (!std::isfinite(value)) {
+            const size_t texel = i / 3;
+            diagnostics.error(at, "environment map texel (" + std::to_string(texel % image->width) + ", " +
+                                      std::to_string(texel / image->width) + ") is not a finite radiance");
+            return nullptr;
+        }
+        if (value < 0.0f) value = 0.0f, ++negative;
+    }
+    if (negative > 0)
+        diagnostics.warning(at, "environment map: " + std::to_string(negative) +
+                                    " negative channel values read as 0");
+    if (image->width != 2 * image->height)
+        diagnostics.warning(at, "environment map is " + std::to_string(image->width) + " x " +
+                                    std::to_string(image->height) +
+                                    ", not 2:1: read as equirectangular all the same");
+    // The integral table beside the texels.
+    if (!memory.reserve(double(image->width + 1) * (image->height + 1) * 3 * sizeof(double))) {
+        diagnostics.error(at, "environment map does not fit in the memory budget");
+        return nullptr;
+    }
+    return std::make_shared<EnvironmentMap>(
+        makeEnvironmentMap(image->width, image->height, std::move(image->rgb), path));
+}
 
 }  // namespace
 
@@ -111,11 +157,27 @@ std::optional<Scene> importPhases(const std::string& path, const ImportOptions& 
             scene.input_files.push_back(normal);
     }
     applyScales(scene, options);
+    std::shared_ptr<EnvironmentMap> map;
+    if (options.daylight.sky == SkyModel::Map) {
+        phase = "reading the environment map";
+        map = readEnvironmentMap(options.daylight.sky_map, options.max_input_bytes, memory, diagnostics);
+        if (!map) return std::nullopt;
+        // An input like the scene's files: the depfile names it, the provenance hashes it.
+        const std::string normal = std::filesystem::path(options.daylight.sky_map).lexically_normal().string();
+        if (std::find(scene.input_files.begin(), scene.input_files.end(), normal) == scene.input_files.end())
+            scene.input_files.push_back(normal);
+    }
     // After the scales: --emission-scale is the file's emitters only.
-    if (const std::string problem = addDaylight(scene, options.daylight); !problem.empty()) {
+    size_t suns_taken = 0;
+    if (const std::string problem = addDaylight(scene, options.daylight, std::move(map), &suns_taken);
+        !problem.empty()) {
         diagnostics.error({path, 0, 0}, problem);
         return std::nullopt;
     }
+    if (suns_taken > 0)
+        diagnostics.note({options.daylight.sky_map, 0, 0},
+                         std::to_string(suns_taken) + (suns_taken == 1 ? " sun" : " suns") +
+                             " drawn in the environment map taken out as directional lights (their shadows sharp)");
     // After the emission scale (a textured emission is the scaled colour times the texture),
     // before validation (which clamps textured reflectance as it does the materials').
     phase = "reading textures";

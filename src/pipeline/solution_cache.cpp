@@ -107,6 +107,12 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
     }
     if (scene.sky.model != SkyModel::None) {
         k.add(scene.sky.model), k.add(scene.sky.radiance), k.add(scene.sky.up);
+        if (scene.sky.model == SkyModel::Background) {
+            const BackgroundSky& b = scene.sky.background;
+            k.addAll(b.sky_angle), k.addAll(b.sky_color), k.addAll(b.ground_angle), k.addAll(b.ground_color);
+        }
+        if (scene.sky.model == SkyModel::Map && scene.sky.map)
+            k.add(scene.sky.map->width), k.add(scene.sky.map->height), k.addAll(scene.sky.map->rgb);
         k.add(o.sky.grid), k.add(o.sky.depth);
     }
     // Every solver knob but max_memory_mb (a budget stops a solve, it does not change it); the

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/memory.h"
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 #include "export/gltf_writer.h"
 #include "export/lightmap_png.h"
 #include "export/manifest.h"
@@ -48,9 +48,12 @@ std::vector<std::pair<std::string, std::string>> provenance(const Bake& bake) {
     const DaylightOptions& daylight = o.import.daylight;
     if (daylight.any()) {
         char sky[256];
-        std::snprintf(sky, sizeof sky, "sky=%s sky_radiance=%g up=%s", skyModelName(daylight.sky),
-                      daylight.sky_radiance, upAxisName(daylight.up).c_str());
-        std::string text = sky;
+        std::snprintf(sky, sizeof sky, " sky_radiance=%g up=%s", daylight.sky_radiance, upAxisName(daylight.up).c_str());
+        // A map by its file name; its bytes are among the inputs radbake:inputs_sha256 hashes.
+        std::string text = std::string("sky=") +
+                           (daylight.sky == SkyModel::Map ? std::filesystem::path(daylight.sky_map).filename().string()
+                                                          : skyModelName(daylight.sky)) +
+                           sky;
         if (daylight.sun) {
             char sun[192];
             std::snprintf(sun, sizeof sun, " sun=%g,%g sun_irradiance=%g sun_diameter=%g",

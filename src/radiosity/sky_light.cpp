@@ -64,7 +64,8 @@ public:
             const DVec2 disc = concentricDisc(2.0 * u[k] - 1.0, 2.0 * v[k] - 1.0);
             const double r2 = glm::dot(disc, disc), cos_t = 1.0 - r2, lift = std::sqrt(std::max(0.0, 2.0 - r2));
             const DVec3 d = glm::normalize(t_ * (disc.x * lift) + b_ * (disc.y * lift) + n_ * cos_t);
-            const DVec3 radiance = skyRadiance(sky_, d);
+            // The sample stands for 2 pi side^2 steradians: a map's detail within them is averaged.
+            const DVec3 radiance = skyRadianceOver(sky_, d, 2.0 * kPi * side * side);
             if (radiance == DVec3(0.0)) {
                 out[k] = {DVec3(0.0), Seen::Nothing};
                 continue;

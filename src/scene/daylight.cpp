@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <limits>
+#include <cctype>
 #include <cmath>
 
 namespace radbake {
@@ -41,6 +42,11 @@ std::optional<SkyModel> parseSkyModel(std::string_view text) {
     if (text == "uniform") return SkyModel::Uniform;
     if (text == "overcast") return SkyModel::Overcast;
     if (text == "background") return SkyModel::Background;
+    if (text.size() > 4) {
+        std::string suffix(text.substr(text.size() - 4));
+        for (char& c : suffix) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (suffix == ".exr") return SkyModel::Map;
+    }
     return std::nullopt;
 }
 
@@ -50,6 +56,7 @@ const char* skyModelName(SkyModel model) {
         case SkyModel::Uniform: return "uniform";
         case SkyModel::Overcast: return "overcast";
         case SkyModel::Background: return "background";
+        case SkyModel::Map: return "map";
     }
     return "none";
 }
@@ -79,6 +86,13 @@ std::optional<SunPosition> parseSunPosition(std::string_view text) {
     return SunPosition{*azimuth, *elevation};
 }
 
+MapFrame mapFrame(const Vec3& up) {
+    MapFrame frame;
+    frame.up = DVec3(up);
+    horizonAxes(up, frame.azimuth0, frame.azimuth90);
+    return frame;
+}
+
 DVec3 sunDirection(const SunPosition& sun, const Vec3& up) {
     DVec3 east, north;
     horizonAxes(up, east, north);
@@ -88,6 +102,7 @@ DVec3 sunDirection(const SunPosition& sun, const Vec3& up) {
 }
 
 std::string checkDaylight(const DaylightOptions& o) {
+    if (o.sky == SkyModel::Map && o.sky_map.empty()) return "--sky: an environment map needs its file";
     if (!(o.sky_radiance >= 0.0) || !std::isfinite(o.sky_radiance))
         return "--sky-radiance must be a non-negative finite number";
     if (!(o.sun_irradiance >= 0.0) || !std::isfinite(o.sun_irradiance))
@@ -101,25 +116,45 @@ std::string checkDaylight(const DaylightOptions& o) {
     return {};
 }
 
-std::string addDaylight(Scene& scene, const DaylightOptions& options) {
+namespace {
+
+// A directional light over every mesh, towards `towards`, of irradiance `irradiance` (per channel).
+Light daylightSun(const DVec3& towards, const DVec3& irradiance, double angular_diameter) {
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = Vec3(-towards);
+    const double peak = std::max(irradiance.x, std::max(irradiance.y, irradiance.z));
+    sun.intensity = static_cast<float>(peak);
+    sun.color = peak > 0.0 ? Vec3(irradiance / peak) : Vec3(1.0f);
+    sun.angular_diameter = static_cast<float>(angular_diameter);
+    sun.radius = std::numeric_limits<float>::infinity();
+    return sun;
+}
+
+}  // namespace
+
+std::string addDaylight(Scene& scene, const DaylightOptions& options, std::shared_ptr<EnvironmentMap> map,
+                        size_t* suns_taken) {
     if (options.sky == SkyModel::Background) {
         if (!scene.background) return "--sky background: the scene has no VRML97 Background node";
         scene.sky.background = *scene.background;
+    }
+    if (options.sky == SkyModel::Map) {
+        if (!map || map->width < 1 || map->height < 1) return "--sky " + options.sky_map + ": no environment map read";
+        const std::vector<MapSun> suns = extractSuns(*map, mapFrame(options.up));
+        for (const MapSun& sun : suns)
+            scene.lights.push_back(daylightSun(sun.direction, sun.irradiance * options.sky_radiance, sun.angular_diameter));
+        if (suns_taken) *suns_taken = suns.size();
+        scene.sky.map = std::move(map);
     }
     if (options.sky != SkyModel::None) {
         scene.sky.model = options.sky;
         scene.sky.radiance = Vec3(static_cast<float>(options.sky_radiance));
         scene.sky.up = options.up;
     }
-    if (options.sun) {
-        Light sun;
-        sun.type = LightType::Directional;
-        sun.direction = Vec3(-sunDirection(*options.sun, options.up));
-        sun.intensity = static_cast<float>(options.sun_irradiance);
-        sun.angular_diameter = static_cast<float>(options.sun_diameter_degrees * kDegree);
-        sun.radius = std::numeric_limits<float>::infinity();
-        scene.lights.push_back(sun);
-    }
+    if (options.sun)
+        scene.lights.push_back(daylightSun(sunDirection(*options.sun, options.up), DVec3(options.sun_irradiance),
+                                           options.sun_diameter_degrees * kDegree));
     return {};
 }
 
@@ -143,6 +178,8 @@ Vec3 rampColour(const std::vector<float>& angles, const std::vector<Vec3>& colou
 
 DVec3 skyRadiance(const Sky& sky, const DVec3& direction) {
     const double cos_zenith = glm::dot(direction, DVec3(sky.up));
+    if (sky.model == SkyModel::Map)
+        return sky.map ? DVec3(sky.radiance) * mapRadiance(*sky.map, mapFrame(sky.up), direction) : DVec3(0.0);
     if (sky.model == SkyModel::Background) {
         const BackgroundSky& b = sky.background;
         const double zenith = std::acos(std::clamp(cos_zenith, -1.0, 1.0)), nadir = kPi - zenith;
@@ -158,9 +195,16 @@ DVec3 skyRadiance(const Sky& sky, const DVec3& direction) {
         case SkyModel::None: return DVec3(0.0);
         case SkyModel::Uniform: return DVec3(sky.radiance);
         case SkyModel::Overcast: return DVec3(sky.radiance) * ((1.0 + 2.0 * cos_zenith) / 3.0);
-        case SkyModel::Background: break;
+        case SkyModel::Background:
+        case SkyModel::Map: break;
     }
     return DVec3(0.0);
+}
+
+DVec3 skyRadianceOver(const Sky& sky, const DVec3& direction, double solid_angle) {
+    if (sky.model == SkyModel::Map && sky.map)
+        return DVec3(sky.radiance) * mapRadianceOver(*sky.map, mapFrame(sky.up), direction, solid_angle);
+    return skyRadiance(sky, direction);
 }
 
 }  // namespace radbake

@@ -24,6 +24,8 @@ struct SunPosition {
 
 struct DaylightOptions {
     SkyModel sky = SkyModel::None;
+    // SkyModel::Map: the equirectangular EXR environment map (scene/environment_map.h), as given.
+    std::string sky_map;
     // W sr^-1 m^-2: the uniform sky's radiance, the overcast sky's zenith radiance.
     double sky_radiance = 1.0;
     Vec3 up{0.0f, 1.0f, 0.0f};  // a unit axis (parseUpAxis)
@@ -36,7 +38,8 @@ struct DaylightOptions {
     bool any() const { return sky != SkyModel::None || sun.has_value(); }
 };
 
-// "uniform", "overcast", "background" (and "none"); nullopt for anything else.
+// "uniform", "overcast", "background" (and "none"), or a file name ending in ".exr" (any case):
+// SkyModel::Map; nullopt for anything else.
 std::optional<SkyModel> parseSkyModel(std::string_view text);
 const char* skyModelName(SkyModel model);
 // "+y", "-z", ... (a sign is required); nullopt for anything else.
@@ -45,6 +48,10 @@ std::string upAxisName(const Vec3& up);
 // "AZIMUTH,ELEVATION" in degrees, both finite, elevation in [-90, 90]; nullopt otherwise.
 std::optional<SunPosition> parseSunPosition(std::string_view text);
 
+// Azimuth 0 and azimuth 90 about `up` (the orientation convention above), with `up`: how an
+// environment map's columns and rows lie.
+MapFrame mapFrame(const Vec3& up);
+
 // Unit vector towards the sun (the orientation convention above).
 DVec3 sunDirection(const SunPosition& sun, const Vec3& up);
 
@@ -52,13 +59,21 @@ DVec3 sunDirection(const SunPosition& sun, const Vec3& up);
 std::string checkDaylight(const DaylightOptions& options);
 
 // Sets scene.sky and appends the sun (a directional Light lighting every mesh) as the options say;
-// what is wrong (--sky background without a Background node) when it cannot, else empty.
-std::string addDaylight(Scene& scene, const DaylightOptions& options);
+// what is wrong (--sky background without a Background node) when it cannot, else empty. With
+// SkyModel::Map, `map` is the environment map read from options.sky_map: the suns drawn in it are
+// taken out as directional lights too (extractSuns), their number in `suns_taken`.
+std::string addDaylight(Scene& scene, const DaylightOptions& options, std::shared_ptr<EnvironmentMap> map = {},
+                        size_t* suns_taken = nullptr);
 
 // The sky's radiance arriving from unit `direction` (travelling against it): for the uniform and
 // overcast skies 0 at and below the horizon, the uniform sky's radiance above it, the CIE overcast
 // sky's L(theta) = Lz (1 + 2 cos theta) / 3 (theta from the zenith); for a Background its
 // colours over the whole sphere (BackgroundSky) times Sky::radiance.
+// An environment map's texel (times Sky::radiance) holding the direction.
 DVec3 skyRadiance(const Sky& sky, const DVec3& direction);
+
+// skyRadiance averaged over a patch of about `solid_angle` steradians about `direction` where the
+// sky has detail a point would miss (an environment map: mapRadianceOver), else skyRadiance.
+DVec3 skyRadianceOver(const Sky& sky, const DVec3& direction, double solid_angle);
 
 }  // namespace radbake

@@ -10,6 +10,7 @@
 
 #include "core/diagnostics.h"
 #include "core/math.h"
+#include "scene/environment_map.h"
 
 namespace radbake {
 
@@ -114,9 +115,10 @@ struct Light {
     bool lights(uint32_t mesh) const;
 };
 
-// Light from every direction above the horizon, at infinity (scene/daylight.h: its radiance by
-// direction). Below the horizon (the plane through each receiver normal to `up`) it is black.
-enum class SkyModel { None, Uniform, Overcast, Background };
+// Light from every direction, at infinity (scene/daylight.h: its radiance by direction). The
+// uniform and overcast skies are black below the horizon (the plane through each receiver normal
+// to `up`); a Background and an environment map (scene/environment_map.h) cover the whole sphere.
+enum class SkyModel { None, Uniform, Overcast, Background, Map };
 
 // A VRML97 Background's sky and ground (ISO/IEC 14772-1, 6.5): sky_color[0] at the zenith,
 // sky_color[i] at sky_angle[i - 1] (radians from the zenith), linear between, the last colour
@@ -130,12 +132,13 @@ struct BackgroundSky {
 struct Sky {
     SkyModel model = SkyModel::None;
     BackgroundSky background;  // SkyModel::Background: its colours, times `radiance`
+    std::shared_ptr<const EnvironmentMap> map;  // SkyModel::Map: its radiances, times `radiance`
     // W sr^-1 m^-2 per channel: the uniform sky's radiance, the overcast sky's at the zenith.
     Vec3 radiance{1.0f};
     Vec3 up{0.0f, 1.0f, 0.0f};  // unit, world
 
     bool shines() const {
-        return model != SkyModel::None && (radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f);
+        return model != SkyModel::None && (model != SkyModel::Map || map) && (radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f);
     }
 };
 

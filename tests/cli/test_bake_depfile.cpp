@@ -7,7 +7,7 @@
 #include <string>
 
 #include "cli_support.h"
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 
 using namespace clitest;
 
@@ -58,6 +58,51 @@ TEST_CASE("--depfile names every output and every input read: the scene, its Inl
     CHECK(inputs.find((tmp.path / "lamp\\ part.wrl").string()) != std::string::npos);  // space escaped
     CHECK(inputs.find((tmp.path / "probes.txt").string()) != std::string::npos);
     CHECK(text.back() == '\n');
+}
+
+TEST_CASE("--sky FILE.exr: the depfile names the environment map, the provenance its name and bytes") {
+    const TempDir tmp;
+    writeInlinedScene(tmp.path, 0.0f);
+    radbake::RgbImage sky;
+    sky.width = 8, sky.height = 4;
+    sky.rgb.assign(8 * 4 * 3, 0.5f);
+    radbake::Diagnostics diagnostics;
+    REQUIRE(radbake::writeExr(tmp.path / "sky map.exr", sky, {}, diagnostics));
+    const fs::path out = tmp.path / "out", dep = tmp.path / "bake.d";
+    const std::string bake = "bake " + quote(tmp.path / "top.wrl") + " -o " + quote(out) + " --depfile " + quote(dep) +
+                             " --sky " + quote(tmp.path / "sky map.exr") + " --quality draft -q";
+    RunResult run = runRadbake(bake);
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const std::string text = readBytes(dep);
+    CHECK(text.substr(text.find(": ")).find((tmp.path / "sky\\ map.exr").string()) != std::string::npos);
+    std::optional<radbake::RgbImage> lightmap = radbake::readExr(out / "lightmaps" / "top_0.exr", diagnostics);
+    REQUIRE(lightmap);
+    CHECK(attribute(*lightmap, "radbake:daylight").find("sky=sky map.exr ") == 0);
+    CHECK(attribute(*lightmap, "radbake:inputs") == "3");
+    const std::string inputs = attribute(*lightmap, "radbake:inputs_sha256");
+    // Another sky, the same name: the provenance changes, and the light doubles with the sky.
+    const auto total = [](const radbake::RgbImage& image) {
+        double sum = 0.0;
+        for (const float v : image.rgb) sum += v;
+        return sum;
+    };
+    const double before = total(*lightmap);
+    REQUIRE(before > 0.0);
+    sky.rgb.assign(8 * 4 * 3, 1.0f);
+    REQUIRE(radbake::writeExr(tmp.path / "sky map.exr", sky, {}, diagnostics));
+    run = runRadbake(bake);
+    REQUIRE(run.exit_code == 0);
+    lightmap = radbake::readExr(out / "lightmaps" / "top_0.exr", diagnostics);
+    REQUIRE(lightmap);
+    CHECK(attribute(*lightmap, "radbake:inputs_sha256") != inputs);
+    CHECK(attribute(*lightmap, "radbake:daylight").find("sky=sky map.exr ") == 0);
+    CHECK(total(*lightmap) == doctest::Approx(2.0 * before).epsilon(0.01));
+    // Not an EXR: refused before anything is read.
+    run = runRadbake("bake " + quote(tmp.path / "top.wrl") + " -o " + quote(tmp.path / "other") + " --sky sky.png -q");
+    CHECK(run.exit_code != 0);
+    CHECK(run.output.find("sky.png") != std::string::npos);
+    CHECK(!fs::exists(tmp.path / "other"));
 }
 
 TEST_CASE("--depfile names an OBJ's MTL file") {

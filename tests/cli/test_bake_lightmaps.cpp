@@ -10,7 +10,7 @@
 #include <string>
 
 #include "cli_support.h"
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 #include "export/hash.h"
 
 using namespace clitest;

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "cli_support.h"
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 
 using namespace clitest;
 

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "export/compare.h"
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 #include "export/gltf_writer.h"
 #include "export/ply_writer.h"
 #include "export/probes.h"

@@ -11,7 +11,7 @@
 #include <vector>
 #include <string>
 
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 #include "temp_files.h"
 
 using namespace radbake;

@@ -8,70 +8,21 @@
 
 #include "radbake.h"
 #include "../export/temp_files.h"
+#include "daylight_scenes.h"
 #include "reference_mc.h"
 
 using namespace radbake;
 using testfs::TempDir;
 
+using namespace daylight_test;
+
 namespace {
-
-constexpr double kDegree = kPi / 180.0;
-
-std::string material(double rho) {
-    const std::string r = std::to_string(rho);
-    return "appearance Appearance { material Material { diffuseColor " + r + " " + r + " " + r + " } }";
-}
-
-// A quad (corners in order, counter-clockwise seen from its front), one-sided unless `two_sided`.
-std::string quad(const std::vector<DVec3>& corners, double rho, bool two_sided = false) {
-    std::string points;
-    for (const DVec3& c : corners)
-        points += std::to_string(c.x) + " " + std::to_string(c.y) + " " + std::to_string(c.z) + ", ";
-    return "Shape { " + material(rho) + " geometry IndexedFaceSet { solid " + (two_sided ? "FALSE" : "TRUE") +
-           " coord Coordinate { point [ " + points + "] } coordIndex [ 0 1 2 3 -1 ] } }\n";
-}
-
-// A black pane letting `t` of the light through: VRML transparency.
-std::string pane(const std::vector<DVec3>& corners, double t) {
-    std::string points;
-    for (const DVec3& c : corners)
-        points += std::to_string(c.x) + " " + std::to_string(c.y) + " " + std::to_string(c.z) + ", ";
-    return "Shape { appearance Appearance { material Material { diffuseColor 0 0 0 transparency " + std::to_string(t) +
-           " } } geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ " + points +
-           "] } coordIndex [ 0 1 2 3 -1 ] } }\n";
-}
-
-// A black ground y = 0, x and z in [-50, 50], facing up.
-const std::string kBlackGround = quad({{-50, 0, -50}, {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}}, 0.0);
-
-Bake bakeWith(const TempDir& dir, const std::string& body, const DaylightOptions& daylight,
-              const std::vector<Probe>& probes, Quality quality = Quality::Medium) {
-    BakeOptions options = BakeOptions::forQuality(quality);
-    options.import.daylight = daylight;
-    options.lightmaps.enabled = false;
-    options.probes = probes;
-    options.threading.threads = 2;
-    Progress progress(false);
-    Diagnostics diagnostics;
-    Bake baked = bake(testfs::writeText(dir, "daylight.wrl", "#VRML V2.0 utf8\n" + body), options, progress,
-                      diagnostics);
-    REQUIRE(std::string(toString(baked.status)) == "ok");
-    REQUIRE(baked.probe_irradiance.size() == probes.size());
-    return baked;
-}
-
-Probe probe(const DVec3& position, const DVec3& normal) { return Probe{position, glm::normalize(normal), {}}; }
 
 // Form factor from a point to a parallel rectangle [0, a] x [0, b] at height c over the point,
 // the point under its corner (the standard closed form).
 double cornerFormFactor(double a, double b, double c) {
     const double x = a / c, y = b / c, sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
     return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * kPi);
-}
-
-void checkWithin(double value, double expected, double relative, const std::string& what) {
-    INFO(what << ": " << value << " against " << expected);
-    CHECK(std::abs(value - expected) <= relative * std::abs(expected));
 }
 
 }  // namespace

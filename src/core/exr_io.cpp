@@ -1,6 +1,6 @@
 // The only file that includes OpenEXR. OpenEXR reports errors by throwing; every call is
 // wrapped so that nothing crosses this boundary (DESIGN.md section 3).
-#include "export/exr_io.h"
+#include "core/exr_io.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
