@@ -113,7 +113,7 @@ std::string solutionKey(const Scene& scene, const SolverOptions& o) {
         }
         if (scene.sky.model == SkyModel::Map && scene.sky.map)
             k.add(scene.sky.map->width), k.add(scene.sky.map->height), k.addAll(scene.sky.map->rgb);
-        k.add(o.sky.grid), k.add(o.sky.depth);
+        k.add(o.sky.grid), k.add(o.sky.depth), k.add(o.sky.search);
     }
     // Every solver knob but max_memory_mb (a budget stops a solve, it does not change it); the
     // read-out's knobs (ReadoutOptions) are not the solver's, so changing them reuses the solution.

@@ -330,9 +330,26 @@ size_t skyAtCorners(RefineState& state, const std::vector<uint32_t>& todo) {
 
 }  // namespace
 
+// A corner reading more than this times the mean of the element's other corners is singular.
+constexpr double kSingularCorner = 4.0;
+
+// Whether leaf i's direct light varies more over it than its group's power rule allows.
+bool directTooCoarse(const RefineState& state, uint32_t i) {
+    const Element& e = state.solution.elements[i];
+    if (!(state.threshold > 0.0) || !e.isLeaf() || !splittable(state, e)) return false;
+    const DVec3& spread = state.direct_spread[i];
+    const double varies = maxChannel(e.reflectance) > 0.0 ? maxChannel(e.reflectance * spread) : maxChannel(spread);
+    return varies * e.area > state.thresholdFor(e.root);
+}
+
 void computeDirectLight(RefineState& state) {
     Solution& s = state.solution;
     const Scene& scene = state.scene;
+    // Leaves read before a solve set their group's power rule (updateThresholds: a room lit
+    // only through a slit is refined by the light it gets, not by the sunlit outside) are
+    // examined again; their children read their own direct light below.
+    for (uint32_t i = 0; i < state.direct_spread.size(); ++i)
+        if (state.direct_done[i] && directTooCoarse(state, i)) ensureChildren(s, i);
     // Own emission first (every element, cheap).
     auto own = [&](const Element& e) { return kPi * DVec3(polygonEmission(scene, scene.meshes[e.mesh], e.polygon)); };
     const bool lights = !scene.lights.empty();
@@ -365,6 +382,7 @@ void computeDirectLight(RefineState& state) {
         }
         if (state.scene.sky.shines()) {
             s.stats.rays += skyAtCorners(state, todo);
+            std::vector<size_t> singular;
             for (size_t k = 0; k < todo.size(); ++k) {
                 const Element& e = s.elements[todo[k]];
                 DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
@@ -374,20 +392,41 @@ void computeDirectLight(RefineState& state) {
                 }
                 mean[k] += sum / static_cast<double>(e.vertex_count);
                 spread[k] += hi - lo;
+                const double top = maxChannel(hi), rest = maxChannel(sum) - top;
+                if (top > kSingularCorner * rest / (e.vertex_count - 1)) singular.push_back(k);
+            }
+            // A corner that sees far more sky than the others (one standing in a slit, at a
+            // window's edge) stands for a quarter of the element in the corners' mean: such an
+            // element's light is read inside it, as punctual light is.
+            std::vector<DVec3> inside(singular.size(), DVec3(0.0));
+            state.runner.forEach(singular.size(), 2, [&](size_t u) {
+                const Element& e = s.elements[todo[singular[u]]];
+                const auto points = stratifiedPolygonPoints(polygonOf(s, e).vertices, 3);
+                const DVec3 lift = e.normal * (kSkyCornerLifts * s.rays->epsilon());
+                for (const DVec3& p : points)
+                    inside[u] += skyIrradiance(scene.sky, s.rays.get(), p + lift, e.normal, state.options.sky,
+                                               &rays[singular[u]]);
+                if (!points.empty()) inside[u] /= static_cast<double>(points.size());
+            });
+            for (size_t u = 0; u < singular.size(); ++u) {
+                const Element& e = s.elements[todo[singular[u]]];
+                DVec3 corners(0.0);
+                for (uint32_t c = 0; c < e.vertex_count; ++c) corners += s.vertex_sky[e.first_vertex + c];
+                mean[singular[u]] += inside[u] - corners / static_cast<double>(e.vertex_count);
             }
         }
         bool split_any = false;
+        state.direct_spread.resize(s.elements.size(), DVec3(0.0));
         for (size_t k = 0; k < todo.size(); ++k) {
             const uint32_t i = todo[k];
             s.stats.rays += rays[k];
             Element& e = s.elements[i];
             e.emission = own(e) + e.reflectance * mean[k];
             state.direct[i] = mean[k];
+            state.direct_spread[i] = spread[k];
             state.direct_done[i] = 1;
             // Refine where the direct light varies (threshold known after the first pass).
-            if (state.threshold > 0.0 && e.isLeaf() && splittable(state, e) &&
-                (maxChannel(e.reflectance) > 0.0 ? maxChannel(e.reflectance * spread[k]) : maxChannel(spread[k])) * e.area >
-                    state.thresholdFor(e.root)) {
+            if (directTooCoarse(state, i)) {
                 ensureChildren(s, i);
                 split_any = true;
             }

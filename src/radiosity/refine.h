@@ -50,6 +50,7 @@ struct RefineState {
     std::vector<LinkRecord> records{};
     std::vector<uint8_t> direct_done{};                   // per element
     std::vector<DVec3> direct{};                          // per element: mean punctual irradiance (W/m^2)
+    std::vector<DVec3> direct_spread{};                   // per element: its max - min over the element
     // The sky read at element corners (skyAtCorners): index into sky_values per distinct corner.
     std::unordered_map<SkyCornerKey, uint32_t, SkyCornerHash> sky_corners{};
     std::vector<DVec3> sky_values{};

@@ -6,9 +6,11 @@
 #include <optional>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <span>
 #include <vector>
 
+#include "geometry/cone_cover.h"
 #include "geometry/polygon.h"
 #include "radiosity/punctual_lights.h"
 #include "radiosity/solution.h"
@@ -35,8 +37,8 @@ using Across = std::array<std::array<Seen, 2>, 4>;
 
 class SkyGather {
 public:
-    SkyGather(const Sky& sky, const RayCaster* caster, const DVec3& p, const DVec3& n)
-        : sky_(sky), caster_(caster), p_(p), n_(n) {
+    SkyGather(const Sky& sky, const RayCaster* caster, const DVec3& p, const DVec3& n, const SkyQuadrature& quadrature)
+        : sky_(sky), caster_(caster), p_(p), n_(n), depth_(quadrature.depth), search_(quadrature.search) {
         // The up axis's projection along b: the horizon of a vertical surface then runs along
         // v = 1/2, a cell edge for an even grid.
         const DVec3 up(sky.up);
@@ -61,9 +63,7 @@ public:
         std::array<float, kBatch> through;
         size_t cast = 0;
         for (size_t k = 0; k < out.size(); ++k) {
-            const DVec2 disc = concentricDisc(2.0 * u[k] - 1.0, 2.0 * v[k] - 1.0);
-            const double r2 = glm::dot(disc, disc), cos_t = 1.0 - r2, lift = std::sqrt(std::max(0.0, 2.0 - r2));
-            const DVec3 d = glm::normalize(t_ * (disc.x * lift) + b_ * (disc.y * lift) + n_ * cos_t);
+            const DVec3 d = direction(u[k], v[k]);
             // The sample stands for 2 pi side^2 steradians: a map's detail within them is averaged.
             const DVec3 radiance = skyRadianceOver(sky_, d, 2.0 * kPi * side * side);
             if (radiance == DVec3(0.0)) {
@@ -87,13 +87,21 @@ public:
         return {{{samples[0], samples[1]}, {samples[2], samples[3]}}};
     }
 
-    // The integral of L V cos theta du dv over the cell [u0, u0 + size] x [v0, v0 + size], whose
-    // samples are `q`: the midpoint rule on its quarters where they and the samples across its
-    // edges agree, else the sum over its quarters, each read at its own quarter centres.
-    DVec3 cell(double u0, double v0, double size, const Quad& q, const Across& across, int depth) {
+    // The integral of L V cos theta du dv over the cell [u0, u0 + size] x [v0, v0 + size] at
+    // `level` below the top cells, whose samples are `q`: the midpoint rule on its quarters where
+    // they and the samples across its edges agree (and, when all are blocked, the blockers they
+    // met are proven to cover the cell), else the sum over its quarters, each read at its own
+    // quarter centres. Cells whose samples disagree split down to `limit`; a dark cell not proven
+    // dark splits down to search_ levels, and a branch that finds sky that way may split depth_
+    // levels below where it looked.
+    DVec3 cell(double u0, double v0, double size, const Quad& q, const Across& across, int level, int limit) {
         const double half = 0.5 * size;
-        if (depth <= 0 || uniform(q, across))
+        const bool agree = uniform(q, across);
+        const bool search = agree && q[0][0].seen == Seen::Blocked && level < search_ && caster_ &&
+                            !provenDark(u0, v0, size);
+        if (!search && (agree || level >= limit))
             return (q[0][0].weighted + q[0][1].weighted + q[1][0].weighted + q[1][1].weighted) * (half * half);
+        const int child_limit = search ? std::max(limit, level + 1 + depth_) : limit;
         // The children's samples first: each child's neighbours inside the cell are its siblings'.
         Quad child[2][2];
         for (int i = 0; i < 2; ++i)
@@ -117,7 +125,7 @@ public:
                     beyond[2][k] = at(2 * i + k, 2 * j - 1);
                     beyond[3][k] = at(2 * i + k, 2 * j + 2);
                 }
-                sum += cell(u0 + i * half, v0 + j * half, half, child[i][j], beyond, depth - 1);
+                sum += cell(u0 + i * half, v0 + j * half, half, child[i][j], beyond, level + 1, child_limit);
             }
         return sum;
     }
@@ -126,6 +134,43 @@ public:
 
 private:
     static constexpr size_t kBatch = 16;
+
+    // The unit direction of parameter point (u, v): the square onto the unit disc by the concentric
+    // map (equal areas, the normal at the centre), then onto the hemisphere by the equal-area
+    // azimuthal projection (1 - cos theta = r^2).
+    DVec3 direction(double u, double v) const {
+        const DVec2 disc = concentricDisc(2.0 * u - 1.0, 2.0 * v - 1.0);
+        const double r2 = glm::dot(disc, disc), cos_t = 1.0 - r2, lift = std::sqrt(std::max(0.0, 2.0 - r2));
+        return glm::normalize(t_ * (disc.x * lift) + b_ * (disc.y * lift) + n_ * cos_t);
+    }
+
+    // Whether the opaque triangles the cell's four samples meet cover every direction of the cell
+    // (geometry/cone_cover.h): its outline, four points an edge, against their union.
+    bool provenDark(double u0, double v0, double size) {
+        std::array<DVec3, 4> far;
+        for (int k = 0; k < 4; ++k)
+            far[k] = pointAtInfinity(*caster_, p_, direction(u0 + (0.25 + 0.5 * (k / 2)) * size,
+                                                              v0 + (0.25 + 0.5 * (k % 2)) * size));
+        std::array<std::array<DVec3, 3>, 4> blockers;
+        std::array<uint8_t, 4> found;
+        caster_->blockersFrom(p_, far, blockers, found);
+        rays += 4;
+        std::array<std::array<DVec3, 3>, 4> opaque;
+        size_t count = 0;
+        for (int k = 0; k < 4; ++k)
+            if (found[k]) opaque[count++] = blockers[k];
+        if (count == 0) return false;
+        constexpr int kPerEdge = 4;
+        std::array<DVec3, 4 * kPerEdge> outline;
+        for (int k = 0; k < kPerEdge; ++k) {
+            const double f = double(k) / kPerEdge;
+            outline[k] = direction(u0 + f * size, v0);
+            outline[kPerEdge + k] = direction(u0 + size, v0 + f * size);
+            outline[2 * kPerEdge + k] = direction(u0 + (1.0 - f) * size, v0 + size);
+            outline[3 * kPerEdge + k] = direction(u0, v0 + (1.0 - f) * size);
+        }
+        return patchCovered(p_, outline, std::span<const std::array<DVec3, 3>>(opaque.data(), count));
+    }
 
     // The mean of cos theta = 1 - max(|a|, |b|)^2 over the square cell of side `side` about (u, v)
     // (a = 2u - 1, b = 2v - 1): 2 x 2 Gauss points, exact for the quadratic on either side of the
@@ -168,6 +213,7 @@ private:
     const Sky& sky_;
     const RayCaster* caster_;
     DVec3 p_, n_, t_, b_;
+    int depth_ = 0, search_ = 0;
 };
 
 // The bilinear interpolation of the corner values h over the convex quad v (in order) at p's
@@ -215,7 +261,8 @@ std::optional<DVec3> bilinearInQuad(const DVec3* v, const DVec3* h, const DVec3&
 DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_world, const DVec3& n_world,
                     const SkyQuadrature& quadrature, size_t* rays_cast) {
     if (!sky.shines()) return DVec3(0.0);
-    SkyGather gather(sky, caster, p_world, n_world);
+    SkyQuadrature qq = quadrature; if (std::getenv("XSEARCH")) qq.search = std::atoi(std::getenv("XSEARCH")); if (std::getenv("XGRID")) qq.grid = std::atoi(std::getenv("XGRID"));
+    SkyGather gather(sky, caster, p_world, n_world, qq);
     const int grid = std::max(1, quadrature.grid), samples = 2 * grid;
     const double size = 1.0 / grid;
     // Every top cell's samples first, so that a cell whose neighbour's samples differ from its
@@ -246,7 +293,7 @@ DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_worl
                 across[2][k] = seen(2 * i + k, 2 * j - 1);
                 across[3][k] = seen(2 * i + k, 2 * j + 2);
             }
-            sum += gather.cell(i * size, j * size, size, q, across, quadrature.depth);
+            sum += gather.cell(i * size, j * size, size, q, across, 0, quadrature.depth);
         }
     if (rays_cast) *rays_cast += gather.rays;
     return 2.0 * kPi * sum;  // d omega = 2 pi du dv

@@ -46,12 +46,17 @@ enum class Quality { Draft, Medium, High, Reference };
 // factors averaged over it (2 x 2 Gauss points, solve.cpp): the oracle bounds power, not local error, and without
 // this closed scenes at rho = 0.99 drift by tens of percent.
 // The sky's quadrature at a point (radiosity/sky_light.h): grid x grid top cells of four samples
-// each, split into quarters where they disagree, down to `depth` levels. The top samples'
-// spacing, 1 / (2 grid) of the hemisphere's parameter square, sets the smallest opening sure to be
-// seen.
+// each, split into quarters where they disagree, down to `depth` levels; a cell whose samples are
+// all blocked is split down to `search` levels unless what blocks them provably covers it, so an
+// opening between samples is looked for down to 1 / (2^(search + 1) grid) of the hemisphere's
+// parameter square.
 struct SkyQuadrature {
     int grid = 12;  // even: a vertical surface's horizon then lies on cell edges
     int depth = 3;
+    // Levels below the top cells down to which a cell whose samples all meet something is split
+    // unless the triangles they meet are proven to cover it: a slit between two panels lies between
+    // samples. 0: trust the samples.
+    int search = 4;
 };
 
 struct SolverOptions {
@@ -59,7 +64,10 @@ struct SolverOptions {
     Quality quality = Quality::Medium;
     double error_threshold = 2e-4;     // fraction of the emitted power a link may misplace (above)
     double min_element_area = 1e-4;    // relative to the scene's total area
-    double iteration_tolerance = 1e-4; // stop when |E + rho K B - B| / |E| (area-weighted) is below this
+    // Stop when |E + rho K B - B| / |E| (area-weighted) is below this. Relative to the whole
+    // scene's light: a room lit through a slit by 1e-4 of what its sunlit outside gets needs
+    // 1e-5 for its own bounce.
+    double iteration_tolerance = 1e-5;
     int max_iterations = 200;          // operator applications (GMRES steps) per solve, then a warning
     double max_memory_mb = 0.0;        // --max-memory: the solve stops with an error above this
                                        // resident memory (MiB); 0: 3/4 of the machine's memory

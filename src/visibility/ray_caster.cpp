@@ -753,6 +753,48 @@ std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& di
     return hit;
 }
 
+void RayCaster::blockersFrom(const DVec3& from, std::span<const DVec3> to, std::span<std::array<DVec3, 3>> corners,
+                             std::span<uint8_t> found) const {
+    constexpr size_t kLanes = 4;
+    const Impl& impl = *impl_;
+    std::call_once(impl.primitive_map_once, [this] { impl_->buildPrimitiveMap(); });
+    const DVec3 from_local = from - impl.origin;
+    std::fill(found.begin(), found.end(), uint8_t(0));
+    for (size_t first = 0; first < to.size(); first += kLanes) {
+        TieContext ties;  // collect stays false: the geometries' intersect filter lets every hit stand
+        rtcInitIntersectContext(&ties.context);
+        RTCRayHit4 packet;
+        alignas(16) int valid[kLanes];
+        for (size_t lane = 0; lane < kLanes; ++lane) {
+            const size_t k = first + lane;
+            const bool used = k < to.size();
+            const DVec3 delta = used ? to[k] - from : DVec3(0.0);
+            setSegmentLane(packet.ray, valid, lane, from_local, delta, impl.epsilon, used);
+            packet.ray.tfar[lane] = valid[lane] ? std::numeric_limits<float>::infinity() : packet.ray.tfar[lane];
+            packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+            packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect4(valid, impl.scene, &ties.context, &packet);
+        for (size_t lane = 0; lane < kLanes; ++lane) {
+            const size_t k = first + lane;
+            const unsigned mesh = packet.hit.geomID[lane];
+            if (k >= to.size() || !valid[lane] || mesh >= impl.meshes.size()) continue;
+            if (!impl.mesh_transmittance.empty() && impl.mesh_transmittance[mesh] > 0.0f) continue;
+            const std::vector<uint32_t>& map = impl.primitive_triangle[mesh];
+            uint32_t triangle = packet.hit.primID[lane];
+            if (!map.empty()) {
+                if (triangle >= map.size()) continue;
+                triangle = map[triangle];
+            }
+            const MeshCopy& copy = impl.meshes[mesh];
+            if (triangle >= copy.triangles.size()) continue;
+            const UVec3& t = copy.triangles[triangle];
+            corners[k] = {copy.positions[t.x], copy.positions[t.y], copy.positions[t.z]};
+            found[k] = 1;
+        }
+    }
+}
+
 size_t RayCaster::reportLateErrors(Diagnostics& diagnostics) const {
     std::lock_guard<std::mutex> lock(impl_->error_mutex);
     const size_t count = impl_->late_error_count.exchange(0);

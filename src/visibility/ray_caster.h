@@ -10,6 +10,7 @@
 // ends exactly on a surface (a patch's own sample point, a light sitting on a wall) is not
 // blocked by that surface. epsilon() = 1e-5 x sceneExtent(); see ray_caster.cpp for why,
 // and for the centred frame that keeps it valid for scenes far from the origin.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -87,6 +88,13 @@ public:
     // and (u, v) carry errors of a few 1e-7 x sceneExtent(); of two triangles sharing the
     // edge a ray crosses, either may be reported (but always the same one).
     std::optional<RayHit> closestHit(const DVec3& origin, const DVec3& direction, double t_max) const;
+
+    // For each ray from `from` through to[k] (unbounded beyond it): the corners (world) of an
+    // opaque triangle it meets first, in corners[k], and found[k] = 1; found[k] = 0 when it
+    // meets nothing or first a transmitting surface. Cast as packets of 4 intersection queries:
+    // what proves a cone of directions blocked (geometry/cone_cover.h) needs the blockers.
+    void blockersFrom(const DVec3& from, std::span<const DVec3> to, std::span<std::array<DVec3, 3>> corners,
+                      std::span<uint8_t> found) const;
 
     // Visible fraction in [0, 1] between two convex polygons (each segment counting its
     // transmittance) (vertices in order, 3 or more).

@@ -25,6 +25,38 @@ double cornerFormFactor(double a, double b, double c) {
     return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * kPi);
 }
 
+// A two-sided grey (rho 0.6) face from `origin` along du and dv, a 4 x 4 grid of quads.
+std::string tiledFace(const DVec3& origin, const DVec3& du, const DVec3& dv) {
+    std::string points, indices;
+    for (int j = 0; j <= 4; ++j)
+        for (int i = 0; i <= 4; ++i) {
+            const DVec3 p = origin + du * (i / 4.0) + dv * (j / 4.0);
+            points += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + ", ";
+        }
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            const int a = j * 5 + i;
+            indices += std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 6) + " " +
+                       std::to_string(a + 5) + " -1 ";
+        }
+    return "Shape { " + material(0.6) + " geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ " + points +
+           "] } coordIndex [ " + indices + "] } }\n";
+}
+
+// The cube [0, 1]^3 of six separate tiled faces; with a slit, its x = 1 face is two halves
+// leaving a vertical gap `slit` wide about z = 0.5.
+std::string tiledBox(double slit) {
+    std::string box;
+    box += tiledFace({0, 0, 0}, {1, 0, 0}, {0, 0, 1});
+    box += tiledFace({0, 1, 0}, {1, 0, 0}, {0, 0, 1});
+    box += tiledFace({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    box += tiledFace({0, 0, 1}, {1, 0, 0}, {0, 1, 0});
+    box += tiledFace({0, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    if (slit == 0.0) return box + tiledFace({1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    const double half = 0.5 - 0.5 * slit;
+    return box + tiledFace({1, 0, 0}, {0, 1, 0}, {0, 0, half}) + tiledFace({1, 0, 1 - half}, {0, 1, 0}, {0, 0, half});
+}
+
 }  // namespace
 
 TEST_CASE("an open uniform sky over a black ground: pi L on a horizontal receiver, pi L / 2 on a vertical one") {
@@ -139,29 +171,7 @@ TEST_CASE("a square opening in a black roof: its form factor times pi L") {
 TEST_CASE("a closed box of separate tiled meshes under a sky and a sun is exactly dark inside at every quality") {
     TempDir dir;
     // Six two-sided faces of a cube [0, 1]^3, each its own 4 x 4 grid of quads.
-    auto grid = [](const DVec3& origin, const DVec3& du, const DVec3& dv) {
-        std::string points, indices;
-        for (int j = 0; j <= 4; ++j)
-            for (int i = 0; i <= 4; ++i) {
-                const DVec3 p = origin + du * (i / 4.0) + dv * (j / 4.0);
-                points += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + ", ";
-            }
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) {
-                const int a = j * 5 + i;
-                indices += std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 6) + " " +
-                           std::to_string(a + 5) + " -1 ";
-            }
-        return "Shape { " + material(0.6) + " geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ " +
-               points + "] } coordIndex [ " + indices + "] } }\n";
-    };
-    std::string box;
-    box += grid({0, 0, 0}, {1, 0, 0}, {0, 0, 1});
-    box += grid({0, 1, 0}, {1, 0, 0}, {0, 0, 1});
-    box += grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
-    box += grid({0, 0, 1}, {1, 0, 0}, {0, 1, 0});
-    box += grid({0, 0, 0}, {0, 1, 0}, {0, 0, 1});
-    box += grid({1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    const std::string box = tiledBox(0.0);
     DaylightOptions daylight;
     daylight.sky = SkyModel::Overcast;
     daylight.sun = SunPosition{30.0, 50.0};
@@ -191,6 +201,39 @@ TEST_CASE("a closed box of separate tiled meshes under a sky and a sun is exactl
         }
         CHECK(inside == 6 * 25);
         CHECK(lit_outside > 6 * 20);
+    }
+}
+
+TEST_CASE("the closed box with a 1 cm slit in a wall: probes facing the slit against reference_mc") {
+    TempDir dir;
+    // The slit is vertical, in the x = 1 wall, 1 cm wide; the sun stands behind the box (azimuth
+    // 180, its light travelling towards +x), so only the sky comes in: seen from the box's centre
+    // the slit is 1.1 degrees wide, from the far wall 0.6, far below the top samples' spacing.
+    // What comes in is 1e-4 of what the outside gets: the interior's bounce must converge too.
+    DaylightOptions daylight;
+    daylight.sky = SkyModel::Overcast;
+    daylight.sun = SunPosition{180.0, 35.0};
+    const std::vector<Probe> probes = {probe({0.5, 0.5, 0.5}, {1, 0, 0}), probe({0.02, 0.6, 0.45}, {1, 0, 0})};
+    const Bake baked = bakeWith(dir, tiledBox(0.01), daylight, probes);
+    // The light through the slit: its area times the vertical irradiance under the overcast sky,
+    // (pi / 6 + 4 / 9) Lz, all of it reaching the inside's surfaces.
+    double inside = 0.0;
+    for (const Element& e : baked.solution->elements)
+        if (e.isLeaf() && glm::dot(e.normal, e.centroid - DVec3(0.5)) < 0.0 && glm::all(glm::greaterThan(e.centroid, DVec3(-1e-3))) &&
+            glm::all(glm::lessThan(e.centroid, DVec3(1.001))))
+            inside += e.area * e.emission.x / e.reflectance.x;
+    checkWithin(inside, 0.01 * (kPi / 6 + 4.0 / 9), 0.05, "the power the inside gets");
+    reference::McOptions mc;
+    mc.samples = 1 << 21;
+    mc.threads = 2;
+    std::vector<reference::McProbe> points;
+    for (const Probe& p : probes) points.push_back({p.position, p.normal});
+    const std::vector<reference::McProbeResult> ref = reference::estimateProbes(reference::McBvh(*baked.scene), points, mc);
+    for (size_t i = 0; i < probes.size(); ++i) {
+        const double got = baked.probe_irradiance[i].x, want = ref[i].irradiance.x, se = ref[i].standard_error.x;
+        INFO("probe " << i << ": radbake " << got << ", reference " << want << " +- " << se);
+        CHECK(se < 0.02 * want);  // 5 % is then 2.5 standard errors away at least
+        CHECK(std::abs(got - want) < 0.05 * want);
     }
 }
 
