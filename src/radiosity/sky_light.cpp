@@ -6,7 +6,6 @@
 #include <optional>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <span>
 #include <vector>
 
@@ -27,13 +26,23 @@ enum class Seen : uint8_t { Sky, Through, Blocked, Nothing, Unknown };
 struct Sample {
     DVec3 weighted{0.0};  // L V cos theta
     Seen seen = Seen::Unknown;
+    RayBlocker blocker;  // Blocked: the opaque triangle met first (when searching)
 };
 
 // A cell's four samples, at its quarter centres: [i][j], i along u, j along v.
 using Quad = std::array<std::array<Sample, 2>, 2>;
+// What a sample across a cell's edge saw, and what blocked it (null if nothing did). The sample
+// outlives the cells that look at it (a parent's children, the top samples).
+struct Neighbour {
+    Seen seen = Seen::Unknown;
+    const RayBlocker* blocker = nullptr;
+};
+Neighbour neighbourOf(const Sample& sample) {
+    return {sample.seen, sample.blocker.found ? &sample.blocker : nullptr};
+}
 // What lies across each edge of a cell next to each of its two samples on that edge: [edge][k]
 // for edges u-min, u-max, v-min, v-max, k the sample's index along the edge.
-using Across = std::array<std::array<Seen, 2>, 4>;
+using Across = std::array<std::array<Neighbour, 2>, 4>;
 
 class SkyGather {
 public:
@@ -98,7 +107,7 @@ public:
         const double half = 0.5 * size;
         const bool agree = uniform(q, across);
         const bool search = agree && q[0][0].seen == Seen::Blocked && level < search_ && caster_ &&
-                            !provenDark(u0, v0, size);
+                            !provenDark(u0, v0, size, q, across);
         if (!search && (agree || level >= limit))
             return (q[0][0].weighted + q[0][1].weighted + q[1][0].weighted + q[1][1].weighted) * (half * half);
         const int child_limit = search ? std::max(limit, level + 1 + depth_) : limit;
@@ -108,12 +117,12 @@ public:
             for (int j = 0; j < 2; ++j) child[i][j] = quad(u0 + i * half, v0 + j * half, half);
         // The samples of the 4 x 4 grid the children make, and what lies beyond it (the cell's own
         // neighbours, one per half edge).
-        auto at = [&](int a, int b) -> Seen {
+        auto at = [&](int a, int b) -> Neighbour {
             if (a < 0) return across[0][b / 2];
             if (a > 3) return across[1][b / 2];
             if (b < 0) return across[2][a / 2];
             if (b > 3) return across[3][a / 2];
-            return child[a / 2][b / 2][a % 2][b % 2].seen;
+            return neighbourOf(child[a / 2][b / 2][a % 2][b % 2]);
         };
         DVec3 sum(0.0);
         for (int i = 0; i < 2; ++i)
@@ -134,6 +143,8 @@ public:
 
 private:
     static constexpr size_t kBatch = 16;
+    // A face of more triangles than this proves with the triangle met only.
+    static constexpr size_t kFaceTriangles = 16;
 
     // The unit direction of parameter point (u, v): the square onto the unit disc by the concentric
     // map (equal areas, the normal at the centre), then onto the hemisphere by the equal-area
@@ -144,23 +155,43 @@ private:
         return glm::normalize(t_ * (disc.x * lift) + b_ * (disc.y * lift) + n_ * cos_t);
     }
 
-    // Whether the opaque triangles the cell's four samples meet cover every direction of the cell
-    // (geometry/cone_cover.h): its outline, four points an edge, against their union.
-    bool provenDark(double u0, double v0, double size) {
-        std::array<DVec3, 4> far;
-        for (int k = 0; k < 4; ++k)
-            far[k] = pointAtInfinity(*caster_, p_, direction(u0 + (0.25 + 0.5 * (k / 2)) * size,
-                                                              v0 + (0.25 + 0.5 * (k % 2)) * size));
-        std::array<std::array<DVec3, 3>, 4> blockers;
-        std::array<uint8_t, 4> found;
-        caster_->blockersFrom(p_, far, blockers, found);
-        rays += 4;
-        std::array<std::array<DVec3, 3>, 4> opaque;
-        size_t count = 0;
-        for (int k = 0; k < 4; ++k)
-            if (found[k]) opaque[count++] = blockers[k];
-        if (count == 0) return false;
-        constexpr int kPerEdge = 4;
+    // Whether the opaque triangles the cell's four samples met cover every direction of the cell
+    // (geometry/cone_cover.h): its outline, two points an edge, against their union.
+    bool provenDark(double u0, double v0, double size, const Quad& q, const Across& across) const {
+        bool one_surface = true;
+        for (const auto& column : q)
+            for (const Sample& sample : column)
+                one_surface = one_surface && sample.blocker.found && sample.blocker.mesh == q[0][0].blocker.mesh;
+        for (const auto& edge : across)
+            for (const Neighbour& n : edge)
+                one_surface = one_surface && (n.seen == Seen::Unknown || (n.blocker && n.blocker->mesh == q[0][0].blocker.mesh));
+        // All four, and the samples around the cell, on one mesh: a gap worth looking for lies
+        // between surfaces (two panels, a wall and its frame), not among a mesh's own triangles,
+        // which are often finer than the cell.
+        if (one_surface) return true;
+        // The faces the samples and their neighbours met, whole (a quad's two triangles cover
+        // what one does not; the cell reaches a quarter of its side beyond its samples).
+        std::vector<std::array<DVec3, 3>> opaque;
+        std::vector<size_t> face_ends;
+        std::array<std::pair<uint32_t, uint32_t>, 12> faces;
+        size_t face_count = 0;
+        auto addFace = [&](const RayBlocker& blocker) {
+            const std::pair<uint32_t, uint32_t> face{blocker.mesh, blocker.polygon};
+            if (std::find(faces.begin(), faces.begin() + face_count, face) != faces.begin() + face_count) return;
+            faces[face_count++] = face;
+            const size_t before = opaque.size();
+            caster_->appendPolygonTriangles(face.first, face.second, kFaceTriangles, opaque);
+            if (opaque.size() == before) opaque.push_back(blocker.corners);
+            face_ends.push_back(opaque.size());
+        };
+        for (const auto& column : q)
+            for (const Sample& sample : column)
+                if (sample.blocker.found) addFace(sample.blocker);
+        for (const auto& edge : across)
+            for (const Neighbour& n : edge)
+                if (n.blocker) addFace(*n.blocker);
+        if (opaque.empty()) return false;
+        constexpr int kPerEdge = 2;
         std::array<DVec3, 4 * kPerEdge> outline;
         for (int k = 0; k < kPerEdge; ++k) {
             const double f = double(k) / kPerEdge;
@@ -169,7 +200,7 @@ private:
             outline[2 * kPerEdge + k] = direction(u0 + (1.0 - f) * size, v0 + size);
             outline[3 * kPerEdge + k] = direction(u0, v0 + (1.0 - f) * size);
         }
-        return patchCovered(p_, outline, std::span<const std::array<DVec3, 3>>(opaque.data(), count));
+        return patchCovered(p_, outline, opaque, face_ends);
     }
 
     // The mean of cos theta = 1 - max(|a|, |b|)^2 over the square cell of side `side` about (u, v)
@@ -189,11 +220,20 @@ private:
 
     void flush(const std::array<DVec3, kBatch>& far, const std::array<size_t, kBatch>& which,
                std::array<float, kBatch>& through, size_t& cast, std::span<Sample> out) {
-        caster_->transmittanceFrom(p_, std::span<const DVec3>(far.data(), cast), std::span<float>(through.data(), cast));
+        const std::span<const DVec3> to(far.data(), cast);
+        const std::span<float> passed(through.data(), cast);
+        std::array<RayBlocker, kBatch> blockers;
+        // The blockers are what a search proves a dark cell with.
+        if (search_ > 0) caster_->transmittanceAndBlockersFrom(p_, to, passed, std::span(blockers.data(), cast));
+        else caster_->transmittanceFrom(p_, to, passed);
         for (size_t k = 0; k < cast; ++k) {
             Sample& sample = out[which[k]];
-            if (through[k] == 0.0f) sample = {DVec3(0.0), Seen::Blocked};
-            else if (through[k] < 1.0f) sample = {sample.weighted * double(through[k]), Seen::Through};
+            if (through[k] == 0.0f) {
+                sample = {DVec3(0.0), Seen::Blocked, blockers[k]};
+            } else if (through[k] < 1.0f) {
+                sample.weighted *= double(through[k]);
+                sample.seen = Seen::Through;
+            }
         }
         rays += cast;
         cast = 0;
@@ -205,8 +245,8 @@ private:
             for (int j = 0; j < 2; ++j)
                 if (q[i][j].seen != first) return false;
         for (const auto& edge : across)
-            for (const Seen s : edge)
-                if (s != Seen::Unknown && s != first) return false;
+            for (const Neighbour& n : edge)
+                if (n.seen != Seen::Unknown && n.seen != first) return false;
         return true;
     }
 
@@ -261,8 +301,7 @@ std::optional<DVec3> bilinearInQuad(const DVec3* v, const DVec3* h, const DVec3&
 DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_world, const DVec3& n_world,
                     const SkyQuadrature& quadrature, size_t* rays_cast) {
     if (!sky.shines()) return DVec3(0.0);
-    SkyQuadrature qq = quadrature; if (std::getenv("XSEARCH")) qq.search = std::atoi(std::getenv("XSEARCH")); if (std::getenv("XGRID")) qq.grid = std::atoi(std::getenv("XGRID"));
-    SkyGather gather(sky, caster, p_world, n_world, qq);
+    SkyGather gather(sky, caster, p_world, n_world, quadrature);
     const int grid = std::max(1, quadrature.grid), samples = 2 * grid;
     const double size = 1.0 / grid;
     // Every top cell's samples first, so that a cell whose neighbour's samples differ from its
@@ -277,8 +316,8 @@ DVec3 skyIrradiance(const Sky& sky, const RayCaster* caster, const DVec3& p_worl
     gather.sample(u, v, 1.0 / samples, top);
     // Nothing beyond the square's edges (the horizon).
     auto seen = [&](int a, int b) {
-        if (a < 0 || a >= samples || b < 0 || b >= samples) return Seen::Unknown;
-        return top[a * samples + b].seen;
+        if (a < 0 || a >= samples || b < 0 || b >= samples) return Neighbour{};
+        return neighbourOf(top[a * samples + b]);
     };
     DVec3 sum(0.0);
     for (int i = 0; i < grid; ++i)

@@ -110,6 +110,7 @@ struct MeshCopy {
     std::vector<uint8_t> valid;       // triangle usable (indices in range, finite vertices)
     std::vector<uint32_t> polygon_start;  // CSR: triangles of polygon p are
     std::vector<uint32_t> polygon_triangles;  // polygon_triangles[polygon_start[p] .. polygon_start[p+1])
+    std::vector<uint32_t> triangle_polygon;   // as in the Scene, when it has polygons
 };
 
 // A candidate triangle ready for the exact test: corner a and the two edges from it.
@@ -241,6 +242,7 @@ MeshCopy copyMesh(const Mesh& mesh, size_t& skipped) {
             const uint32_t p = mesh.triangle_polygon[t];
             if (p < polygon_count) copy.polygon_triangles[fill[p]++] = t;
         }
+        copy.triangle_polygon = mesh.triangle_polygon;
     }
     return copy;
 }
@@ -753,24 +755,65 @@ std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& di
     return hit;
 }
 
-void RayCaster::blockersFrom(const DVec3& from, std::span<const DVec3> to, std::span<std::array<DVec3, 3>> corners,
-                             std::span<uint8_t> found) const {
+namespace {
+
+// A single intersection query from `origin_local` (the centred frame) along unit `direction` over
+// [t_near, t_far]: the mesh and primitive met first, or false.
+bool firstHit(RTCScene scene, const DVec3& origin_local, const DVec3& direction, float t_near, float t_far,
+              unsigned& mesh, unsigned& primitive, float& t) {
+    TieContext ties;  // collect stays false: the geometries' intersect filter lets every hit stand
+    rtcInitIntersectContext(&ties.context);
+    RTCRayHit query{};
+    query.ray.org_x = static_cast<float>(origin_local.x);
+    query.ray.org_y = static_cast<float>(origin_local.y);
+    query.ray.org_z = static_cast<float>(origin_local.z);
+    query.ray.dir_x = static_cast<float>(direction.x);
+    query.ray.dir_y = static_cast<float>(direction.y);
+    query.ray.dir_z = static_cast<float>(direction.z);
+    query.ray.tnear = t_near;
+    query.ray.tfar = t_far;
+    query.ray.mask = 0xFFFFFFFFu;
+    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &ties.context, &query);
+    if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    mesh = query.hit.geomID, primitive = query.hit.primID, t = query.ray.tfar;
+    return true;
+}
+
+}  // namespace
+
+void RayCaster::transmittanceAndBlockersFrom(const DVec3& from, std::span<const DVec3> to, std::span<float> through,
+                                             std::span<RayBlocker> blockers) const {
     constexpr size_t kLanes = 4;
     const Impl& impl = *impl_;
     std::call_once(impl.primitive_map_once, [this] { impl_->buildPrimitiveMap(); });
     const DVec3 from_local = from - impl.origin;
-    std::fill(found.begin(), found.end(), uint8_t(0));
+    std::fill(through.begin(), through.end(), 1.0f);
+    auto transmits = [&](unsigned mesh) { return !impl.mesh_transmittance.empty() && impl.mesh_transmittance[mesh] > 0.0f; };
+    auto record = [&](size_t k, unsigned mesh, unsigned primitive) {
+        RayBlocker& blocker = blockers[k];
+        blocker.found = false;
+        if (mesh >= impl.meshes.size()) return;
+        const std::vector<uint32_t>& map = impl.primitive_triangle[mesh];
+        const uint32_t triangle = map.empty() ? primitive : primitive < map.size() ? map[primitive] : kNoMesh;
+        const MeshCopy& copy = impl.meshes[mesh];
+        if (triangle >= copy.triangles.size()) return;
+        const UVec3& t = copy.triangles[triangle];
+        const uint32_t polygon = triangle < copy.triangle_polygon.size() ? copy.triangle_polygon[triangle] : kNoMesh;
+        blocker = {true, mesh, polygon, {copy.positions[t.x], copy.positions[t.y], copy.positions[t.z]}};
+    };
+    std::vector<size_t> transmitting;  // first met a transmitting surface
     for (size_t first = 0; first < to.size(); first += kLanes) {
-        TieContext ties;  // collect stays false: the geometries' intersect filter lets every hit stand
+        TieContext ties;
         rtcInitIntersectContext(&ties.context);
         RTCRayHit4 packet;
         alignas(16) int valid[kLanes];
         for (size_t lane = 0; lane < kLanes; ++lane) {
             const size_t k = first + lane;
             const bool used = k < to.size();
-            const DVec3 delta = used ? to[k] - from : DVec3(0.0);
-            setSegmentLane(packet.ray, valid, lane, from_local, delta, impl.epsilon, used);
-            packet.ray.tfar[lane] = valid[lane] ? std::numeric_limits<float>::infinity() : packet.ray.tfar[lane];
+            if (used) blockers[k].found = false;
+            setSegmentLane(packet.ray, valid, lane, from_local, used ? to[k] - from : DVec3(0.0), impl.epsilon, used);
             packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
             packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
         }
@@ -779,19 +822,55 @@ void RayCaster::blockersFrom(const DVec3& from, std::span<const DVec3> to, std::
             const size_t k = first + lane;
             const unsigned mesh = packet.hit.geomID[lane];
             if (k >= to.size() || !valid[lane] || mesh >= impl.meshes.size()) continue;
-            if (!impl.mesh_transmittance.empty() && impl.mesh_transmittance[mesh] > 0.0f) continue;
-            const std::vector<uint32_t>& map = impl.primitive_triangle[mesh];
-            uint32_t triangle = packet.hit.primID[lane];
-            if (!map.empty()) {
-                if (triangle >= map.size()) continue;
-                triangle = map[triangle];
+            if (transmits(mesh)) {
+                transmitting.push_back(k);
+                continue;
             }
-            const MeshCopy& copy = impl.meshes[mesh];
-            if (triangle >= copy.triangles.size()) continue;
-            const UVec3& t = copy.triangles[triangle];
-            corners[k] = {copy.positions[t.x], copy.positions[t.y], copy.positions[t.z]};
-            found[k] = 1;
+            through[k] = 0.0f;
+            record(k, mesh, packet.hit.primID[lane]);
         }
+    }
+    if (transmitting.empty()) return;
+    std::vector<DVec3> far(transmitting.size());
+    std::vector<float> passed(transmitting.size());
+    for (size_t i = 0; i < transmitting.size(); ++i) far[i] = to[transmitting[i]];
+    transmittanceFrom(from, far, passed);
+    for (size_t i = 0; i < transmitting.size(); ++i) {
+        const size_t k = transmitting[i];
+        through[k] = passed[i];
+        if (passed[i] != 0.0f) continue;
+        // Blocked behind the glass: the first opaque surface past the transmitting ones.
+        const DVec3 delta = to[k] - from;
+        const double length = glm::length(delta);
+        const DVec3 direction = delta / length;
+        float t_near = static_cast<float>(impl.epsilon);
+        for (int crossing = 0; crossing < 16; ++crossing) {
+            unsigned mesh = 0, primitive = 0;
+            float t = 0.0f;
+            if (!firstHit(impl.scene, from_local, direction, t_near, static_cast<float>(length - impl.epsilon), mesh,
+                          primitive, t))
+                break;
+            if (!transmits(mesh)) {
+                record(k, mesh, primitive);
+                break;
+            }
+            t_near = t + static_cast<float>(impl.epsilon);
+        }
+    }
+}
+
+void RayCaster::appendPolygonTriangles(uint32_t mesh, uint32_t polygon, size_t at_most,
+                                       std::vector<std::array<DVec3, 3>>& out) const {
+    if (mesh >= impl_->meshes.size()) return;
+    const MeshCopy& copy = impl_->meshes[mesh];
+    if (polygon + 1 >= copy.polygon_start.size()) return;
+    const uint32_t begin = copy.polygon_start[polygon], end = copy.polygon_start[polygon + 1];
+    if (end - begin > at_most) return;
+    for (uint32_t i = begin; i < end; ++i) {
+        const uint32_t triangle = copy.polygon_triangles[i];
+        if (!copy.valid[triangle]) continue;
+        const UVec3& t = copy.triangles[triangle];
+        out.push_back({copy.positions[t.x], copy.positions[t.y], copy.positions[t.z]});
     }
 }
 

@@ -31,6 +31,14 @@ struct TriangleRef {
     uint32_t triangle = 0;
 };
 
+// The opaque triangle that blocks a ray (transmittanceAndBlockersFrom).
+struct RayBlocker {
+    bool found = false;
+    uint32_t mesh = 0;
+    uint32_t polygon = 0;  // the mesh's source polygon holding the triangle
+    std::array<DVec3, 3> corners;  // world
+};
+
 // The first surface a ray meets (closestHit): hit point = (1 - u - v) * corner 0 + u * corner 1
 // + v * corner 2 of the triangle, at distance t along the (normalised) direction.
 struct RayHit {
@@ -89,12 +97,17 @@ public:
     // edge a ray crosses, either may be reported (but always the same one).
     std::optional<RayHit> closestHit(const DVec3& origin, const DVec3& direction, double t_max) const;
 
-    // For each ray from `from` through to[k] (unbounded beyond it): the corners (world) of an
-    // opaque triangle it meets first, in corners[k], and found[k] = 1; found[k] = 0 when it
-    // meets nothing or first a transmitting surface. Cast as packets of 4 intersection queries:
-    // what proves a cone of directions blocked (geometry/cone_cover.h) needs the blockers.
-    void blockersFrom(const DVec3& from, std::span<const DVec3> to, std::span<std::array<DVec3, 3>> corners,
-                      std::span<uint8_t> found) const;
+    // transmittanceFrom's answer for segments from `from` to far points to[k], and for each one
+    // blocked, the first opaque triangle it meets (beyond any transmitting ones) in blockers[k].
+    // Cast as packets of 4 intersection queries (more for those that cross transmitting
+    // surfaces): what proves a cone of directions blocked (geometry/cone_cover.h) needs them.
+    void transmittanceAndBlockersFrom(const DVec3& from, std::span<const DVec3> to, std::span<float> through,
+                                      std::span<RayBlocker> blockers) const;
+
+    // Appends the corners (world) of the triangles of source polygon `polygon` of `mesh`, when it
+    // has at most `at_most` of them (else nothing): a blocker's whole face.
+    void appendPolygonTriangles(uint32_t mesh, uint32_t polygon, size_t at_most,
+                                std::vector<std::array<DVec3, 3>>& out) const;
 
     // Visible fraction in [0, 1] between two convex polygons (each segment counting its
     // transmittance) (vertices in order, 3 or more).

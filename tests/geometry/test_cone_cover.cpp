@@ -71,6 +71,21 @@ TEST_CASE("patchCovered: tiles meeting along seams cover a patch; a slit between
     const Patch patch = squarePatch(DVec3(1, 0, 0), 0.2);
     CHECK(patchCovered(apex, patch.outline, wall(0.125, 0.0)));
     CHECK(!patchCovered(apex, patch.outline, wall(0.125, 0.01)));
+    // Grouped into faces (each tile's two triangles one convex quad): the same answers.
+    std::vector<size_t> quads;
+    for (size_t end = 2; end <= wall(0.125, 0.0).size(); end += 2) quads.push_back(end);
+    CHECK(patchCovered(apex, patch.outline, wall(0.125, 0.0), quads));
+    CHECK(!patchCovered(apex, patch.outline, wall(0.125, 0.01), quads));
+    // A face that is not convex (an L of three tiles' triangles) is taken triangle by triangle.
+    const std::vector<Triangle> tiles = wall(0.5, 0.0);
+    std::vector<Triangle> ell;
+    for (size_t i = 0; i < tiles.size() && ell.size() < 6; ++i)
+        if (std::abs(tiles[i][0].y) < 0.6 && std::abs(tiles[i][0].z) < 0.6 && !(tiles[i][0].y >= 0 && tiles[i][0].z >= 0))
+            ell.push_back(tiles[i]);
+    REQUIRE(ell.size() == 6);
+    const std::vector<size_t> one_face{6};
+    const Patch corner = squarePatch(glm::normalize(DVec3(1, 0.25, 0.25)), 0.1);
+    CHECK(!patchCovered(apex, corner.outline, ell, one_face));
     // Only the triangles the patch's rays meet are needed, whatever their order.
     std::vector<Triangle> met;
     for (const Triangle& t : wall(0.125, 0.0))
