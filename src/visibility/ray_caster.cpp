@@ -673,6 +673,29 @@ void RayCaster::Impl::buildPrimitiveMap() const {
     }
 }
 
+namespace {
+
+// One ray for rtcIntersect1 from `origin_local` (the centred frame) along unit `direction`
+// over [t_near, t_far], no hit yet.
+RTCRayHit rayHitQuery(const DVec3& origin_local, const DVec3& direction, float t_near, float t_far) {
+    RTCRayHit query{};
+    query.ray.org_x = static_cast<float>(origin_local.x);
+    query.ray.org_y = static_cast<float>(origin_local.y);
+    query.ray.org_z = static_cast<float>(origin_local.z);
+    query.ray.dir_x = static_cast<float>(direction.x);
+    query.ray.dir_y = static_cast<float>(direction.y);
+    query.ray.dir_z = static_cast<float>(direction.z);
+    query.ray.tnear = t_near;
+    query.ray.tfar = t_far;
+    query.ray.mask = 0xFFFFFFFFu;
+    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    query.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return query;
+}
+
+}  // namespace
+
 std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& direction, double t_max) const {
     const double length = glm::length(direction);
     if (!(length > 0.0) || !std::isfinite(length) || !(t_max >= impl_->epsilon)) return std::nullopt;
@@ -684,23 +707,11 @@ std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& di
 
     TieContext ties;
     rtcInitIntersectContext(&ties.context);
-    RTCRayHit query{};
-    query.ray.org_x = static_cast<float>(origin_local.x);
-    query.ray.org_y = static_cast<float>(origin_local.y);
-    query.ray.org_z = static_cast<float>(origin_local.z);
-    query.ray.dir_x = static_cast<float>(unit.x);
-    query.ray.dir_y = static_cast<float>(unit.y);
-    query.ray.dir_z = static_cast<float>(unit.z);
-    query.ray.tnear = static_cast<float>(impl_->epsilon);
     // Beyond float range means unbounded.
-    query.ray.tfar = t_max < static_cast<double>(std::numeric_limits<float>::max()) ? static_cast<float>(t_max)
-                                                                                      : std::numeric_limits<float>::infinity();
-    query.ray.mask = 0xFFFFFFFFu;
-    query.ray.flags = 0;
-    query.ray.time = 0.0f;
-    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    query.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit query = rayHitQuery(origin_local, unit, static_cast<float>(impl_->epsilon),
+                                  t_max < static_cast<double>(std::numeric_limits<float>::max())
+                                      ? static_cast<float>(t_max)
+                                      : std::numeric_limits<float>::infinity());
     rtcIntersect1(impl_->scene, &ties.context, &query);
     if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID || query.hit.geomID >= impl_->meshes.size()) return std::nullopt;
     // Surfaces at the same distance (coincident faces): the one with the least (geometry,
@@ -763,18 +774,7 @@ bool firstHit(RTCScene scene, const DVec3& origin_local, const DVec3& direction,
               unsigned& mesh, unsigned& primitive, float& t) {
     TieContext ties;  // collect stays false: the geometries' intersect filter lets every hit stand
     rtcInitIntersectContext(&ties.context);
-    RTCRayHit query{};
-    query.ray.org_x = static_cast<float>(origin_local.x);
-    query.ray.org_y = static_cast<float>(origin_local.y);
-    query.ray.org_z = static_cast<float>(origin_local.z);
-    query.ray.dir_x = static_cast<float>(direction.x);
-    query.ray.dir_y = static_cast<float>(direction.y);
-    query.ray.dir_z = static_cast<float>(direction.z);
-    query.ray.tnear = t_near;
-    query.ray.tfar = t_far;
-    query.ray.mask = 0xFFFFFFFFu;
-    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit query = rayHitQuery(origin_local, direction, t_near, t_far);
     rtcIntersect1(scene, &ties.context, &query);
     if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     mesh = query.hit.geomID, primitive = query.hit.primID, t = query.ray.tfar;
