@@ -110,7 +110,7 @@ void addDaylightOptions(CLI::App& command, DaylightOptions& daylight) {
         ->type_name("MODEL");
     command.add_option("--sky-radiance", daylight.sky_radiance,
                        "The uniform sky's radiance, the overcast sky's zenith radiance, in W sr^-1 m^-2; "
-                       "multiplies a Background's colours")
+                       "multiplies a Background's colours and an environment map's radiances")
         ->check(nonNegativeReal(1e9))
         ->capture_default_str();
     command
