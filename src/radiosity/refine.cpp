@@ -383,6 +383,7 @@ void computeDirectLight(RefineState& state) {
         if (state.scene.sky.shines()) {
             s.stats.rays += skyAtCorners(state, todo);
             std::vector<size_t> singular;
+            std::vector<DVec3> corner_mean;
             for (size_t k = 0; k < todo.size(); ++k) {
                 const Element& e = s.elements[todo[k]];
                 DVec3 lo(std::numeric_limits<double>::max()), hi(0.0), sum(0.0);
@@ -393,7 +394,10 @@ void computeDirectLight(RefineState& state) {
                 mean[k] += sum / static_cast<double>(e.vertex_count);
                 spread[k] += hi - lo;
                 const double top = maxChannel(hi), rest = maxChannel(sum) - top;
-                if (top > kSingularCorner * rest / (e.vertex_count - 1)) singular.push_back(k);
+                if (top > kSingularCorner * rest / (e.vertex_count - 1)) {
+                    singular.push_back(k);
+                    corner_mean.push_back(sum / static_cast<double>(e.vertex_count));
+                }
             }
             // A corner that sees far more sky than the others (one standing in a slit, at a
             // window's edge) stands for a quarter of the element in the corners' mean: such an
@@ -408,12 +412,7 @@ void computeDirectLight(RefineState& state) {
                                                &rays[singular[u]]);
                 if (!points.empty()) inside[u] /= static_cast<double>(points.size());
             });
-            for (size_t u = 0; u < singular.size(); ++u) {
-                const Element& e = s.elements[todo[singular[u]]];
-                DVec3 corners(0.0);
-                for (uint32_t c = 0; c < e.vertex_count; ++c) corners += s.vertex_sky[e.first_vertex + c];
-                mean[singular[u]] += inside[u] - corners / static_cast<double>(e.vertex_count);
-            }
+            for (size_t u = 0; u < singular.size(); ++u) mean[singular[u]] += inside[u] - corner_mean[u];
         }
         bool split_any = false;
         state.direct_spread.resize(s.elements.size(), DVec3(0.0));

@@ -172,6 +172,13 @@ struct RayCaster::Impl {
     mutable std::once_flag primitive_map_once;
     mutable std::vector<std::vector<uint32_t>> primitive_triangle;
     void buildPrimitiveMap() const;
+    // Mesh `mesh`'s triangle index of Embree primitive `primitive` (after buildPrimitiveMap),
+    // kNoMesh when out of range.
+    uint32_t triangleOf(uint32_t mesh, uint32_t primitive) const {
+        const std::vector<uint32_t>& map = primitive_triangle[mesh];
+        const uint32_t triangle = map.empty() ? primitive : primitive < map.size() ? map[primitive] : kNoMesh;
+        return triangle < meshes[mesh].triangles.size() ? triangle : kNoMesh;
+    }
 };
 
 namespace {
@@ -740,14 +747,9 @@ std::optional<RayHit> RayCaster::closestHit(const DVec3& origin, const DVec3& di
     if (query.hit.geomID >= impl_->meshes.size()) return std::nullopt;
 
     const uint32_t mesh = query.hit.geomID;
-    const std::vector<uint32_t>& map = impl_->primitive_triangle[mesh];
-    uint32_t triangle = query.hit.primID;
-    if (!map.empty()) {
-        if (triangle >= map.size()) return std::nullopt;
-        triangle = map[triangle];
-    }
+    const uint32_t triangle = impl_->triangleOf(mesh, query.hit.primID);
+    if (triangle == kNoMesh) return std::nullopt;
     const MeshCopy& copy = impl_->meshes[mesh];
-    if (triangle >= copy.triangles.size()) return std::nullopt;
     RayHit hit;
     hit.triangle = {mesh, triangle};
     hit.t = static_cast<double>(query.ray.tfar);
@@ -795,10 +797,9 @@ void RayCaster::transmittanceAndBlockersFrom(const DVec3& from, std::span<const 
         RayBlocker& blocker = blockers[k];
         blocker.found = false;
         if (mesh >= impl.meshes.size()) return;
-        const std::vector<uint32_t>& map = impl.primitive_triangle[mesh];
-        const uint32_t triangle = map.empty() ? primitive : primitive < map.size() ? map[primitive] : kNoMesh;
+        const uint32_t triangle = impl.triangleOf(mesh, primitive);
+        if (triangle == kNoMesh) return;
         const MeshCopy& copy = impl.meshes[mesh];
-        if (triangle >= copy.triangles.size()) return;
         const UVec3& t = copy.triangles[triangle];
         const uint32_t polygon = triangle < copy.triangle_polygon.size() ? copy.triangle_polygon[triangle] : kNoMesh;
         blocker = {true, mesh, polygon, {copy.positions[t.x], copy.positions[t.y], copy.positions[t.z]}};
