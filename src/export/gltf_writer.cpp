@@ -487,12 +487,12 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                     texture = addImageTexture(textures, lists, bin, png.bytes, "image/png", true,
                                               "lightmap " + std::to_string(atlas));
                 // three.js (which reads MOZ_lightmap) takes a light map as irradiance and
-                // shades it with albedo / pi: intensity pi * scale turns the texels (H/pi
-                // over scale) into H, so albedo * H/pi is what it shows.
+                // shades it with albedo / pi: the decoded texels hold H/pi, so intensity pi
+                // makes them H and albedo * H/pi is what it shows.
                 json["extensions"]["MOZ_lightmap"] = {
-                    {"index", texture}, {"texCoord", 1}, {"intensity", static_cast<float>(kPi) * png.scale}};
+                    {"index", texture}, {"texCoord", 1}, {"intensity", static_cast<float>(kPi)}};
                 extras["radbake_lightmap_png"] = png.file;
-                extras["radbake_lightmap_scale"] = png.scale;
+                extras["radbake_lightmap_encoding"] = "rgbe8";
                 uses_lightmap = true;
             }
             json["extras"] = std::move(extras);
@@ -585,9 +585,10 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
             for (const LightmapPng& png : *lightmap_pngs) pngs.push_back(png.file);
             asset_extras["radbake_lightmap_pngs"] = std::move(pngs);
             asset_extras["radbake_lightmap_encoding"] =
-                "each atlas also as a 16-bit linear RGB PNG, embedded and referenced from its materials by "
-                "MOZ_lightmap through TEXCOORD_1: value = sample / 65535 * the material's extras.radbake_lightmap_scale; "
-                "MOZ_lightmap.intensity = pi * scale (three.js reads a light map as irradiance H); primitives with a "
+                "each atlas also as an 8-bit RGBA PNG with a shared exponent (rgbe8), embedded and referenced from its "
+                "materials by MOZ_lightmap through TEXCOORD_1: value = 0 for alpha 0, else channel * 2^(alpha - 136); "
+                "decode to linear before sampling (examples/web); MOZ_lightmap.intensity = pi (three.js reads a "
+                "light map as irradiance H); primitives with a "
                 "lightmap texture have no COLOR_0 (an engine would apply both)";
         }
     }

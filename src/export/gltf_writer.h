@@ -33,13 +33,14 @@
 // spread over several atlases, is named "<material> (lightmap k)".
 // With GltfOptions::lightmap_textures, that material also carries the atlas's PNG
 // (lightmap_png.h, embedded, clamped and not mipmapped) through the lightmap UVs:
-//   "extensions": {"MOZ_lightmap": {"index": T, "texCoord": 1, "intensity": pi * scale}}
-//   "extras": {..., "radbake_lightmap_png": "lightmaps/x_0.png", "radbake_lightmap_scale": scale}
+//   "extensions": {"MOZ_lightmap": {"index": T, "texCoord": 1, "intensity": pi}}
+//   "extras": {..., "radbake_lightmap_png": "lightmaps/x_0.png", "radbake_lightmap_encoding": "rgbe8"}
+// A loader decodes the PNG's codes to linear values before sampling (examples/web); intensity pi
+// turns the decoded H/pi into the irradiance three.js adds the light map to.
 // MOZ_lightmap (Mozilla Hubs, three.js's lightMap) rather than MSFT_lightmap (Babylon.js):
-// its `intensity` carries the PNG's HDR scale (MSFT_lightmap has only the texture), and
 // three.js adds a light map to the irradiance and shades it with the albedo, which is what
-// the texels mean (Babylon.js's loader, as we know it, applies MSFT_lightmap as a shadow map
-// that multiplies the dynamic lighting: not checked here). Listed in extensionsUsed, not extensionsRequired: a loader without it
+// the texels mean (Babylon.js's loader applies MSFT_lightmap as a shadow map
+// that multiplies the dynamic lighting; examples/babylonjs makes it multiply the albedo). Listed in extensionsUsed, not extensionsRequired: a loader without it
 // still draws the meshes. Those primitives have no COLOR_0 (glTF multiplies the base colour
 // by it, so an engine would apply the baked light twice); _RADBAKE_LIGHT keeps the vertex light.
 // Meshes without charts are written as without lightmaps; with no lightmaps the output is

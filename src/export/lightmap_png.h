@@ -1,22 +1,20 @@
 #pragma once
-// The lightmap as a texture engines read (issue 14): each atlas also as an 8-bit PNG beside
-// its EXR (lightmaps/<name>_<k>.png), embedded in the glb and referenced from the materials
-// through MOZ_lightmap (gltf_writer.h).
+// The lightmap as a texture a browser shows right (issue 33): each atlas also as an 8-bit PNG
+// beside its EXR (lightmaps/<name>_<k>.png), embedded in the glb and referenced from the
+// materials through MOZ_lightmap (gltf_writer.h).
 //
-// HDR encoding: a linear scale factor per atlas, in a 16-bit RGB PNG. Each channel is stored as
-//     q = round(65535 * clamp(value / scale, 0, 1))      (no sRGB transfer curve)
-// and reads back as value = q / 65535 * scale, within scale / 131070, where value is the
-// EXR's (H/pi by default) and scale is the atlas's largest channel value, so no texel clips (1
-// for an atlas without light). Linear, not sRGB or RGBM, because the loaders that read a
-// lightmap extension (three.js, Hubs) sample its texture as linear data and multiply it by
-// one intensity: a plain scale is the one HDR encoding they decode without a custom shader.
-// 16 bits because 8 do not hold a room's range: the Cornell Box's block faces in shade sit
-// near 1 % of the atlas's peak, 2 or 3 steps of 8 bits, and came out blotched and tinted (each
-// channel rounding its own way). A browser decodes a 16-bit PNG to 8 bits (those steps
-// again); Blender and engines' importers keep 16. The EXR keeps the full value.
-// The scale is in the glb (material extras radbake_lightmap_scale; MOZ_lightmap intensity)
-// and in the PNG itself, as tEXt chunks: "radbake:lightmap_scale" (the number, %.9g: the
-// float exactly) and "radbake:encoding".
+// Encoding "rgbe8", Radiance's shared exponent in an RGBA PNG: a texel's three channels share
+// the exponent in alpha, each keeps an 8-bit mantissa,
+//     value = 0                            for alpha = 0
+//     value = code * 2^(alpha - 136)       for alpha >= 1   (code = the channel's byte)
+// so the texel's brightest channel keeps its value within 0.4 % (its code is 128 or more)
+// whatever the atlas's range. Browsers decode any PNG to 8 bits; a single linear or log
+// scale cannot hold both a lamp's hot spot and a room's shadows in 8 bits (the house: a
+// scale of 15.9 left ordinary walls a few codes). No sRGB curve; the alpha is not coverage.
+// Loaders decode the codes to linear floats before sampling (examples/web); the EXR keeps
+// every value exactly.
+#include <array>
+#include <cstdint>
 #include <string>
 
 #include "core/exr_io.h"
@@ -24,20 +22,19 @@
 namespace radbake {
 
 struct LightmapPng {
-    std::string file;     // relative to the bake folder: "lightmaps/<name>_<k>.png"
-    std::string bytes;    // the PNG file
-    float scale = 1.0f;   // value = q / 65535 * scale
+    std::string file;   // relative to the bake folder: "lightmaps/<name>_<k>.png"
+    std::string bytes;  // the PNG file
 };
 
-// The atlas's largest finite channel value, or 1 when it has none above 0.
-float lightmapPngScale(const RgbImage& image);
+// The RGBA bytes of one texel; negative and NaN channels give 0, values beyond the largest
+// exponent the largest code.
+std::array<uint8_t, 4> encodeRgbe(float r, float g, float b);
 
-// The PNG (RGB, 16 bits, row 0 at the top) of `image` at `scale`, with its tEXt chunks;
-// negative and NaN values give 0. Empty when the image is empty or inconsistent, or the
-// scale is not a positive finite number.
-std::string encodeLightmapPng(const RgbImage& image, float scale);
+// The value one channel's code stands for with the texel's exponent byte.
+float decodeRgbe(uint8_t code, uint8_t exponent);
 
-// The texel value a 16-bit sample of an atlas at `scale` stands for.
-inline float decodeLightmapSample(unsigned short q, float scale) { return static_cast<float>(q) / 65535.0f * scale; }
+// The PNG (RGBA, 8 bits, row 0 at the top) of `image`, with a tEXt chunk naming the
+// encoding. Empty when the image is empty or inconsistent.
+std::string encodeLightmapPng(const RgbImage& image);
 
 }  // namespace radbake

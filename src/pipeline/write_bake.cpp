@@ -101,8 +101,7 @@ bool encodeLightmapPngs(const Bake& bake, std::vector<LightmapPng>& pngs, Diagno
         const RgbImage image = toRgbImage(baked.lightmaps.images[k]);
         LightmapPng png;
         png.file = std::filesystem::path(baked.files.atlas_files[k]).replace_extension(".png").generic_string();
-        png.scale = lightmapPngScale(image);
-        png.bytes = encodeLightmapPng(image, png.scale);
+        png.bytes = encodeLightmapPng(image);
         if (png.bytes.empty()) {
             diagnostics.error({png.file, 0, 0}, "cannot encode lightmap atlas " + std::to_string(k) + " as a PNG");
             return false;

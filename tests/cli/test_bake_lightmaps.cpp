@@ -12,6 +12,8 @@
 #include "cli_support.h"
 #include "core/exr_io.h"
 #include "export/hash.h"
+#include "export/lightmap_png.h"
+#include "scene/texture_image.h"
 
 using namespace clitest;
 
@@ -216,13 +218,30 @@ TEST_CASE("the glb embeds each atlas's PNG, the file beside the EXR, and decodes
         const nlohmann::json& extension = material.at("extensions").at("MOZ_lightmap");
         CHECK(extension.at("texCoord").get<int>() == 1);
         CHECK(material.at("extras").at("radbake_lightmap_png").get<std::string>() == "lightmaps/lamp_0.png");
-        const double scale = material.at("extras").at("radbake_lightmap_scale").get<double>();
-        CHECK(extension.at("intensity").get<double>() == doctest::Approx(kPi * scale));
-        // The scale is the EXR's largest value (the EXR holds halves of the same floats).
+        CHECK(material.at("extras").at("radbake_lightmap_encoding").get<std::string>() == "rgbe8");
+        CHECK(extension.at("intensity").get<double>() == doctest::Approx(kPi));
+        // The PNG's bytes decode to the EXR's texels: each within half a code of its texel's
+        // shared exponent (the EXR holds halves of the same floats).
         radbake::Diagnostics diagnostics;
         const std::optional<radbake::RgbImage> atlas = radbake::readExr(out / "lightmaps" / "lamp_0.exr", diagnostics);
         REQUIRE(atlas);
-        CHECK(scale == doctest::Approx(*std::max_element(atlas->rgb.begin(), atlas->rgb.end())).epsilon(1e-3));
+        radbake::TextureRef ref;
+        ref.path = "lamp_0.png";
+        ref.embedded = std::make_shared<std::string>(png);
+        int width = 0, height = 0;
+        std::vector<uint8_t> rgba;
+        std::string error;
+        REQUIRE(radbake::readImageRgba8(ref, width, height, rgba, error));
+        REQUIRE(static_cast<size_t>(width) * static_cast<size_t>(height) * 3 == atlas->rgb.size());
+        size_t lit = 0;
+        for (size_t t = 0; t < atlas->rgb.size() / 3; ++t) {
+            const float* rgb = &atlas->rgb[3 * t];
+            const float peak = std::max({rgb[0], rgb[1], rgb[2]});
+            lit += peak > 0.0f;
+            for (int c = 0; c < 3; ++c)
+                CHECK(std::fabs(radbake::decodeRgbe(rgba[4 * t + c], rgba[4 * t + 3]) - rgb[c]) <= peak / 256.0f);
+        }
+        CHECK(lit > atlas->rgb.size() / 12);
         ++lightmapped;
     }
     CHECK(lightmapped == 2);  // the lamp's and the floor's materials, both on atlas 0

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -491,8 +492,7 @@ std::vector<LightmapPng> literalPngs(const LightmapFiles& lightmaps) {
         image.rgb = {0.5f, 0.25f, 0.0f, peak, 1.0f, 0.1f};
         LightmapPng png;
         png.file = "lightmaps/literal_" + std::to_string(k) + ".png";
-        png.scale = lightmapPngScale(image);
-        png.bytes = encodeLightmapPng(image, png.scale);
+        png.bytes = encodeLightmapPng(image);
         REQUIRE_FALSE(png.bytes.empty());
         pngs.push_back(std::move(png));
     }
@@ -509,26 +509,45 @@ std::string imageBytes(const Glb& glb, size_t index) {
 
 }  // namespace
 
-TEST_CASE("the lightmap PNG: 16-bit linear samples of value / scale, the scale in a tEXt chunk") {
+TEST_CASE("rgbe8: a texel's brightest channel within 0.4 % at any scale, the others within half its step") {
+    for (double scale = 1e-30; scale < 1e30; scale *= 7.3) {
+        const float r = static_cast<float>(scale), g = static_cast<float>(0.37 * scale), b = static_cast<float>(0.002 * scale);
+        CAPTURE(scale);
+        const std::array<uint8_t, 4> texel = encodeRgbe(r, g, b);
+        REQUIRE(texel[3] > 0);
+        CHECK(texel[0] >= 128);  // the brightest channel keeps 8 significant bits
+        const double step = decodeRgbe(1, texel[3]);  // one code of this texel
+        CHECK(std::fabs(decodeRgbe(texel[0], texel[3]) - r) <= 0.5 * step * (1 + 1e-6));
+        CHECK(std::fabs(decodeRgbe(texel[1], texel[3]) - g) <= 0.5 * step * (1 + 1e-6));
+        CHECK(std::fabs(decodeRgbe(texel[2], texel[3]) - b) <= 0.5 * step * (1 + 1e-6));
+        CHECK(step / r < 1.0 / 127.0);  // neighbouring codes of the brightest channel: under 0.8 % apart
+    }
+    // Just below a power of two the mantissa rounds up to 256: the exponent takes it.
+    const std::array<uint8_t, 4> carry = encodeRgbe(0.9999f, 0.0f, 0.0f);
+    CHECK(decodeRgbe(carry[0], carry[3]) == doctest::Approx(1.0));
+    CHECK(encodeRgbe(0.0f, 0.0f, 0.0f) == std::array<uint8_t, 4>{0, 0, 0, 0});
+    CHECK(encodeRgbe(-1.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f) == std::array<uint8_t, 4>{0, 0, 0, 0});
+    const std::array<uint8_t, 4> mixed = encodeRgbe(-1.0f, 2.0f, std::numeric_limits<float>::quiet_NaN());
+    CHECK(decodeRgbe(mixed[0], mixed[3]) == 0.0f);
+    CHECK(decodeRgbe(mixed[1], mixed[3]) == doctest::Approx(2.0));
+    CHECK(decodeRgbe(mixed[2], mixed[3]) == 0.0f);
+    CHECK(decodeRgbe(0, 0) == 0.0f);
+    CHECK(encodeRgbe(std::numeric_limits<float>::infinity(), 0.0f, 0.0f)[3] == 255);
+}
+
+TEST_CASE("the lightmap PNG: RGBA bytes of rgbe8 that a PNG reader reads back, the encoding in a tEXt chunk") {
     RgbImage image;
     image.width = 3;
-    image.height = 1;
-    image.rgb = {0.0f, 1.0f, 4.0f, 2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), 3.0f, 0.5f, 0.01f};
-    const float scale = lightmapPngScale(image);
-    CHECK(scale == 4.0f);  // the largest finite value: nothing clips
-    const std::string png = encodeLightmapPng(image, scale);
+    image.height = 2;
+    image.rgb = {0.0f, 1.0f, 4.0f,   2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(),  3.0f, 0.5f, 0.01f,
+                 1e-4f, 2e-4f, 3e-4f, 15.9f, 15.9f, 15.9f, 0.0f, 0.0f, 0.0f};
+    const std::string png = encodeLightmapPng(image);
     REQUIRE(png.size() > 33);
     CHECK(png.compare(12, 4, "IHDR") == 0);
-    CHECK(static_cast<int>(png[24]) == 16);  // bit depth
-    CHECK(static_cast<int>(png[25]) == 2);   // RGB
-    CHECK(png.find(std::string("tEXtradbake:lightmap_scale") + '\0' + "4") != std::string::npos);
-    // round(65535 v / 4); negative and NaN give 0.
-    const std::vector<int> expected = {0, 16384, 65535, 32768, 0, 0, 49151, 8192, 164};
-    for (size_t i = 0; i < expected.size(); ++i)
-        if (image.rgb[i] > 0.0f)
-            CHECK(std::fabs(decodeLightmapSample(static_cast<unsigned short>(expected[i]), scale) - image.rgb[i]) <=
-                  scale / 131070.0f + 1e-6f);
-    // A valid PNG (CRCs, zlib stream, Sub filters): stb_image reads it, keeping each sample's high byte.
+    CHECK(static_cast<int>(png[24]) == 8);  // bit depth
+    CHECK(static_cast<int>(png[25]) == 6);  // RGBA
+    CHECK(png.find(std::string("tEXtradbake:encoding") + '\0' + "rgbe8") != std::string::npos);
+    // A valid PNG (CRCs, zlib stream, Sub filters): stb_image reads the bytes back.
     TextureRef ref;
     ref.path = "literal.png";
     ref.embedded = std::make_shared<std::string>(png);
@@ -537,18 +556,18 @@ TEST_CASE("the lightmap PNG: 16-bit linear samples of value / scale, the scale i
     std::string error;
     REQUIRE(readImageRgba8(ref, width, height, rgba, error));
     REQUIRE(width == 3);
-    REQUIRE(height == 1);
-    for (int p = 0; p < 3; ++p)
-        for (int c = 0; c < 3; ++c) {
-            CAPTURE(p);
-            CAPTURE(c);
-            CHECK(rgba[4 * p + c] == expected[3 * p + c] >> 8);
-        }
-    RgbImage dark;
-    dark.width = dark.height = 1;
-    dark.rgb = {0.0f, 0.0f, 0.0f};
-    CHECK(lightmapPngScale(dark) == 1.0f);
-    CHECK(encodeLightmapPng(dark, 0.0f).empty());
+    REQUIRE(height == 2);
+    for (size_t p = 0; p < 6; ++p) {
+        CAPTURE(p);
+        const float* rgb = &image.rgb[3 * p];
+        const auto clean = [](float v) { return v > 0.0f ? v : 0.0f; };  // negative and NaN read 0
+        const std::array<uint8_t, 4> texel = encodeRgbe(rgb[0], rgb[1], rgb[2]);
+        const float peak = std::max({clean(rgb[0]), clean(rgb[1]), clean(rgb[2])});
+        for (int c = 0; c < 4; ++c) CHECK(rgba[4 * p + c] == texel[c]);
+        for (int c = 0; c < 3; ++c)
+            CHECK(std::fabs(decodeRgbe(rgba[4 * p + c], rgba[4 * p + 3]) - clean(rgb[c])) <= peak / 256.0f);
+    }
+    CHECK(encodeLightmapPng(RgbImage{}).empty());
 }
 
 TEST_CASE("glb lightmap texture: each lightmapped material reaches its atlas's PNG through MOZ_lightmap, texCoord 1") {
@@ -579,14 +598,14 @@ TEST_CASE("glb lightmap texture: each lightmapped material reaches its atlas's P
             const nlohmann::json& material = json.at("materials").at(primitive.at("material").get<size_t>());
             const nlohmann::json& extension = material.at("extensions").at("MOZ_lightmap");
             CHECK(extension.at("texCoord").get<int>() == 1);
-            CHECK(extension.at("intensity").get<double>() == doctest::Approx(kPi * pngs[atlas].scale));
+            CHECK(extension.at("intensity").get<double>() == doctest::Approx(kPi));
             const nlohmann::json& texture = json.at("textures").at(extension.at("index").get<size_t>());
             CHECK(imageBytes(glb, texture.at("source").get<size_t>()) == pngs[atlas].bytes);
             const nlohmann::json& sampler = json.at("samplers").at(texture.at("sampler").get<size_t>());
             CHECK(sampler.at("wrapS").get<int>() == 33071);  // clamped, not repeating
             CHECK(sampler.at("minFilter").get<int>() == 9729);  // no mipmaps across charts
             CHECK(material.at("extras").at("radbake_lightmap_png").get<std::string>() == pngs[atlas].file);
-            CHECK(material.at("extras").at("radbake_lightmap_scale").get<double>() == doctest::Approx(pngs[atlas].scale));
+            CHECK(material.at("extras").at("radbake_lightmap_encoding").get<std::string>() == "rgbe8");
         }
     // One image per atlas, however many materials use it.
     CHECK(json.at("images").size() == 2);
