@@ -503,3 +503,31 @@ TEST_CASE("textures: a texture swapped for a link out of the tree after the impo
     for (const auto& material : glb.root["materials"])
         CHECK_FALSE(material["pbrMetallicRoughness"].contains("baseColorTexture"));
 }
+
+TEST_CASE("textures: VRML primitives keep their texture in the glb, through the standard's coordinates") {
+    const TempDir tmp;
+    writePng(tmp.path / "half.png", 2, 1, 3, {0, 0, 0, 255, 255, 255});
+    std::ofstream(tmp.path / "shapes.wrl") << "#VRML V2.0 utf8\n"
+        "PointLight { location 0 4 4 }\n"
+        "DEF T Appearance { texture ImageTexture { url \"half.png\" } }\n"
+        "Transform { translation -3 0 0 children Shape { appearance USE T geometry Box { } } }\n"
+        "Transform { translation -1 0 0 children Shape { appearance USE T geometry Sphere { } } }\n"
+        "Transform { translation 1 0 0 children Shape { appearance USE T geometry Cylinder { } } }\n"
+        "Transform { translation 3 0 0 children Shape { appearance USE T geometry Cone { } } }\n";
+    const fs::path out = tmp.path / "out";
+    const RunResult run = runRadbake("bake " + quote(tmp.path / "shapes.wrl") + " -o " + quote(out) + " --quality draft -q");
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const Glb glb(readBytes(out / "shapes.glb"));
+    size_t primitives = 0;
+    for (const auto& mesh : glb.root["meshes"])
+        for (const auto& primitive : mesh["primitives"]) {
+            const nlohmann::json& material = glb.root["materials"][primitive["material"].get<size_t>()];
+            REQUIRE(material["pbrMetallicRoughness"].contains("baseColorTexture"));
+            CHECK(primitive["attributes"].contains("TEXCOORD_0"));
+            CHECK(primitive["attributes"]["TEXCOORD_0"] != primitive["attributes"]["TEXCOORD_1"]);
+            ++primitives;
+        }
+    CHECK(primitives >= 4);
+    REQUIRE(glb.root["images"].size() == 2);  // the texture and the lightmap
+}

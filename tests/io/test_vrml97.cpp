@@ -424,3 +424,87 @@ Shape { appearance Appearance { material Red { } } geometry Box { } }
     CHECK(r.scene.materials.at(r.scene.meshes[0].material).reflectance == Vec3(1, 0, 0));
     CHECK(r.scene.materials.at(r.scene.meshes[1].material).reflectance == Vec3(1, 0, 0));
 }
+
+namespace {
+
+// The texture coordinate of the mesh's vertex at `p` on a triangle whose face normal is
+// nearest `normal` (a corner belongs to several faces), or NaN when none.
+Vec2 uvAt(const Mesh& mesh, Vec3 p, Vec3 normal) {
+    Vec2 best(std::numeric_limits<float>::quiet_NaN());
+    double best_dot = -2.0;
+    for (const UVec3& t : mesh.triangles) {
+        const DVec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
+        const DVec3 n = glm::normalize(glm::cross(b - a, c - a));
+        for (int k = 0; k < 3; ++k)
+            if (glm::distance(mesh.positions[t[k]], p) < 1e-5f && glm::dot(n, DVec3(normal)) > best_dot) {
+                best_dot = glm::dot(n, DVec3(normal));
+                best = mesh.uv0[t[k]];
+            }
+    }
+    return best;
+}
+
+void checkUv(Vec2 got, Vec2 want) {
+    CHECK(got.x == doctest::Approx(want.x).epsilon(1e-5));
+    CHECK(got.y == doctest::Approx(want.y).epsilon(1e-5));
+}
+
+}  // namespace
+
+TEST_CASE("vrml97: textured Box, Sphere, Cylinder and Cone carry the standard's texture coordinates") {
+    Read r = readVrml97("primitive_uvs", R"(
+Shape { appearance Appearance { texture ImageTexture { url "wood.png" } } geometry Box { size 2 4 6 } }
+Shape { appearance Appearance { texture ImageTexture { url "wood.png" } } geometry Sphere { radius 2 } }
+Shape { appearance Appearance { texture ImageTexture { url "wood.png" } } geometry Cylinder { radius 1 height 4 } }
+Shape { appearance Appearance { texture ImageTexture { url "wood.png" } } geometry Cone { bottomRadius 1 height 2 } }
+Shape { geometry Box { } }
+)");
+    REQUIRE(r.ok);
+    REQUIRE(r.scene.meshes.size() == 5);
+    for (size_t m = 0; m < 4; ++m) {
+        CAPTURE(m);
+        CHECK(r.scene.materials[r.scene.meshes[m].material].base_color_texture.path.ends_with("wood.png"));
+        CHECK(r.scene.meshes[m].uv0.size() == r.scene.meshes[m].positions.size());
+    }
+    CHECK(r.scene.meshes[4].uv0.empty());  // untextured: no coordinates, vertices shared as before
+    CHECK(r.scene.meshes[4].positions.size() == 8);
+
+    // ISO/IEC 14772-1 6.4: each face the whole image, upright as seen from outside (top: -Z up,
+    // bottom: +Z up). The corner (1, 2, 3) on each of its three faces, and the opposite corner.
+    const Mesh& box = r.scene.meshes[0];
+    CHECK(box.positions.size() > 8);  // corners split where their faces differ
+    checkUv(uvAt(box, Vec3(1, 2, 3), Vec3(0, 0, 1)), Vec2(1, 1));   // front: top right
+    checkUv(uvAt(box, Vec3(1, 2, 3), Vec3(1, 0, 0)), Vec2(0, 1));   // right, seen from +X: top left
+    checkUv(uvAt(box, Vec3(1, 2, 3), Vec3(0, 1, 0)), Vec2(1, 0));   // top: near right is bottom right
+    checkUv(uvAt(box, Vec3(-1, -2, -3), Vec3(0, 0, -1)), Vec2(1, 0));  // back, seen from -Z: bottom right
+    checkUv(uvAt(box, Vec3(-1, -2, -3), Vec3(-1, 0, 0)), Vec2(0, 0));  // left, seen from -X: bottom left
+    checkUv(uvAt(box, Vec3(-1, -2, -3), Vec3(0, -1, 0)), Vec2(0, 0));  // bottom, +Z up: far left
+
+    // 6.43: s from 0 at -Z counter-clockwise seen from above (-X 0.25, +Z 0.5, +X 0.75), t
+    // by latitude from the bottom; the seam at -Z holds both 0 and 1.
+    const Mesh& sphere = r.scene.meshes[1];
+    checkUv(uvAt(sphere, Vec3(0, 0, 2), Vec3(0, 0, 1)), Vec2(0.5f, 0.5f));
+    checkUv(uvAt(sphere, Vec3(2, 0, 0), Vec3(1, 0, 0)), Vec2(0.75f, 0.5f));
+    checkUv(uvAt(sphere, Vec3(-2, 0, 0), Vec3(-1, 0, 0)), Vec2(0.25f, 0.5f));
+    checkUv(uvAt(sphere, Vec3(0, 0, -2), Vec3(-0.2f, 0, -1)), Vec2(0.0f, 0.5f));  // the seam's -X side
+    checkUv(uvAt(sphere, Vec3(0, 0, -2), Vec3(0.2f, 0, -1)), Vec2(1.0f, 0.5f));   // its +X side
+    const float ring = 2.0f * std::sin(static_cast<float>(kPi) / 16.0f);  // the first ring below the north pole
+    checkUv(uvAt(sphere, Vec3(0, 2.0f * std::cos(static_cast<float>(kPi) / 16.0f), ring), Vec3(0, 1, 1)),
+            Vec2(0.5f, 15.0f / 16.0f));
+
+    // 6.17: the side as the sphere's, t linear in height; caps upright with the top tilted
+    // towards +Z (top: -Z up) or towards -Z (bottom: +Z up).
+    const Mesh& cylinder = r.scene.meshes[2];
+    checkUv(uvAt(cylinder, Vec3(1, 2, 0), Vec3(1, 0, 0)), Vec2(0.75f, 1.0f));
+    checkUv(uvAt(cylinder, Vec3(-1, -2, 0), Vec3(-1, 0, 0)), Vec2(0.25f, 0.0f));
+    checkUv(uvAt(cylinder, Vec3(0, 2, 1), Vec3(0, 1, 0)), Vec2(0.5f, 0.0f));   // top cap, +Z edge at the bottom
+    checkUv(uvAt(cylinder, Vec3(1, 2, 0), Vec3(0, 1, 0)), Vec2(1.0f, 0.5f));
+    checkUv(uvAt(cylinder, Vec3(0, -2, 1), Vec3(0, -1, 0)), Vec2(0.5f, 1.0f));  // bottom cap, +Z edge at the top
+
+    // 6.14: the side as the cylinder's, the apex at t = 1 (each side triangle's own s), the
+    // bottom as the cylinder's.
+    const Mesh& cone = r.scene.meshes[3];
+    checkUv(uvAt(cone, Vec3(0, -1, 1), Vec3(0, 0.5f, 1)), Vec2(0.5f, 0.0f));
+    checkUv(uvAt(cone, Vec3(0, -1, 1), Vec3(0, -1, 0)), Vec2(0.5f, 1.0f));
+    CHECK(uvAt(cone, Vec3(0, 1, 0), Vec3(0, 0.5f, 1)).y == doctest::Approx(1.0f));
+}

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace radbake::vrml {
@@ -58,6 +60,20 @@ void addCap(Mesh& mesh, uint32_t ring, bool facing_up) {
 bool positiveFinite(float v) { return std::isfinite(v) && v > 0.0f; }
 
 void markRound(Mesh& mesh) { mesh.crease_angle = std::max(mesh.crease_angle, kRoundCreaseAngle); }
+
+// The texture coordinate of a box corner `p` on the face whose outward normal is `n`.
+Vec2 boxUv(DVec3 p, DVec3 n, Vec3 size) {
+    const DVec3 q = p / DVec3(size);  // each coordinate in [-0.5, 0.5]
+    if (n.z > 0.5) return Vec2(0.5 + q.x, 0.5 + q.y);   // front: +X right, +Y up
+    if (n.z < -0.5) return Vec2(0.5 - q.x, 0.5 + q.y);  // back, seen from -Z
+    if (n.x > 0.5) return Vec2(0.5 - q.z, 0.5 + q.y);   // right, seen from +X
+    if (n.x < -0.5) return Vec2(0.5 + q.z, 0.5 + q.y);  // left, seen from -X
+    if (n.y > 0.5) return Vec2(0.5 + q.x, 0.5 - q.z);   // top, seen from above with -Z up
+    return Vec2(0.5 + q.x, 0.5 + q.z);                  // bottom, seen from below with +Z up
+}
+
+// The fraction of a turn from -Z, counter-clockwise seen from above (through -X, +Z, +X).
+double turnFromBack(DVec3 p) { return 0.5 + std::atan2(p.x, p.z) / (2.0 * kPi); }
 
 }  // namespace
 
@@ -129,6 +145,52 @@ void appendCone(Mesh& mesh, float bottom_radius, float height, bool side, bool b
     }
     if (bottom) addCap(mesh, ring, false);
     mesh.convex_solid = was_empty && side && bottom && positiveFinite(bottom_radius) && positiveFinite(height);
+}
+
+void primitiveTextureCoordinates(Mesh& mesh, Primitive kind, Vec3 size) {
+    const double radius = size.x, height = kind == Primitive::Sphere ? 2.0 * size.x : size.y;
+    // Per polygon: its outward normal and its centre's turn (a side's s away from the seam).
+    std::vector<DVec3> normal(mesh.polygon_count, DVec3(0.0)), centre(mesh.polygon_count, DVec3(0.0));
+    std::vector<int> corners(mesh.polygon_count, 0);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const UVec3& tri = mesh.triangles[t];
+        const DVec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+        const uint32_t polygon = mesh.triangle_polygon[t];
+        normal[polygon] += glm::cross(b - a, c - a);
+        centre[polygon] += a + b + c;
+        corners[polygon] += 3;
+    }
+    const auto uvOf = [&](uint32_t polygon, DVec3 p) -> Vec2 {
+        const DVec3 n = glm::normalize(normal[polygon]);
+        if (kind == Primitive::Box) return boxUv(p, n, size);
+        if (kind != Primitive::Sphere && std::fabs(n.y) > 0.999) {  // a cap, upright seen tilted towards the viewer
+            const double sign = n.y > 0.0 ? -1.0 : 1.0;
+            return Vec2(0.5 + p.x / (2.0 * radius), 0.5 + sign * p.z / (2.0 * radius));
+        }
+        const double middle = turnFromBack(centre[polygon] / static_cast<double>(corners[polygon]));
+        double s = turnFromBack(p);
+        if (std::hypot(p.x, p.z) < 1e-6 * radius) s = middle;  // a pole or the apex: its own triangle's turn
+        s += std::round(middle - s);                          // the side of the seam its polygon is on
+        const double t = kind == Primitive::Sphere ? 1.0 - std::acos(std::clamp(p.y / radius, -1.0, 1.0)) / kPi
+                                                   : 0.5 + p.y / height;
+        return Vec2(s, t);
+    };
+    std::map<std::pair<uint32_t, std::pair<float, float>>, uint32_t> split;  // (vertex, uv) -> vertex
+    std::vector<Vec3> positions;
+    std::vector<Vec2> uvs;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t& v = mesh.triangles[t][k];
+            const Vec2 uv = uvOf(mesh.triangle_polygon[t], DVec3(mesh.positions[v]));
+            const auto [it, added] = split.try_emplace({v, {uv.x, uv.y}}, static_cast<uint32_t>(positions.size()));
+            if (added) {
+                positions.push_back(mesh.positions[v]);
+                uvs.push_back(uv);
+            }
+            v = it->second;
+        }
+    mesh.positions = std::move(positions);
+    mesh.uv0 = std::move(uvs);
 }
 
 }  // namespace radbake::vrml

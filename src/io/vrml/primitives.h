@@ -26,4 +26,14 @@ void appendSphere(Mesh& mesh, float radius);
 void appendCylinder(Mesh& mesh, float radius, float height, bool side, bool top, bool bottom);
 void appendCone(Mesh& mesh, float bottom_radius, float height, bool side, bool bottom);
 
+enum class Primitive { Box, Sphere, Cylinder, Cone };
+
+// Gives a primitive just appended to an empty mesh, still in object space, the texture
+// coordinates ISO/IEC 14772-1 defines for it (6.4 Box, 6.14 Cone, 6.17 Cylinder, 6.43 Sphere):
+// each box face and each cap holds the whole image upright as the standard views it; sides wrap
+// it counter-clockwise seen from above from s = 0 at -Z, t from 0 at the bottom to 1 at the top
+// (a sphere's t by latitude). Vertices whose corners need different coordinates (face edges, the
+// seam at -Z, poles and apex) are split. `size` is the Box's size, or (radius, height, 0).
+void primitiveTextureCoordinates(Mesh& mesh, Primitive kind, Vec3 size);
+
 }  // namespace radbake::vrml

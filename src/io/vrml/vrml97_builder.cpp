@@ -285,6 +285,7 @@ void Vrml97Builder::shape(const Node& node, const DMat4& m) {
     Mesh mesh;
     const std::string& type = geometry->type;
     bool ok = false;
+    std::optional<std::pair<Primitive, Vec3>> primitive;  // its kind and size, for its texture coordinates
     if (type == "IndexedFaceSet") {
         ok = indexedFaceSet(*geometry, mesh);
     } else if (type == "ElevationGrid") {
@@ -292,27 +293,33 @@ void Vrml97Builder::shape(const Node& node, const DMat4& m) {
     } else if (type == "Extrusion") {
         ok = extrusion(*geometry, mesh);
     } else if (type == "Box") {
-        appendBox(mesh, sfVec3(*geometry, "size", Vec3(2.0f)));
+        primitive = {Primitive::Box, sfVec3(*geometry, "size", Vec3(2.0f))};
+        appendBox(mesh, primitive->second);
         ok = true;
     } else if (type == "Sphere") {
-        appendSphere(mesh, sfFloat(*geometry, "radius", 1.0f));
+        primitive = {Primitive::Sphere, Vec3(sfFloat(*geometry, "radius", 1.0f), 0.0f, 0.0f)};
+        appendSphere(mesh, primitive->second.x);
         ok = true;
     } else if (type == "Cylinder") {
-        appendCylinder(mesh, sfFloat(*geometry, "radius", 1.0f), sfFloat(*geometry, "height", 2.0f),
-                       sfBool(*geometry, "side", true), sfBool(*geometry, "top", true), sfBool(*geometry, "bottom", true));
+        primitive = {Primitive::Cylinder, Vec3(sfFloat(*geometry, "radius", 1.0f), sfFloat(*geometry, "height", 2.0f), 0.0f)};
+        appendCylinder(mesh, primitive->second.x, primitive->second.y, sfBool(*geometry, "side", true),
+                       sfBool(*geometry, "top", true), sfBool(*geometry, "bottom", true));
         ok = true;
     } else if (type == "Cone") {
-        appendCone(mesh, sfFloat(*geometry, "bottomRadius", 1.0f), sfFloat(*geometry, "height", 2.0f),
-                   sfBool(*geometry, "side", true), sfBool(*geometry, "bottom", true));
+        primitive = {Primitive::Cone, Vec3(sfFloat(*geometry, "bottomRadius", 1.0f), sfFloat(*geometry, "height", 2.0f), 0.0f)};
+        appendCone(mesh, primitive->second.x, primitive->second.y, sfBool(*geometry, "side", true),
+                   sfBool(*geometry, "bottom", true));
         ok = true;
     } else {
         warnOnce("geometry " + type, geometry->location, type + " is not a geometry node; Shape ignored");
     }
     if (!ok || mesh.triangles.empty()) return;
     mesh.material = materialFor(sfNode(node, "appearance"));
-    // A textured face set without texCoord gets the default mapping, in object space.
-    if (type == "IndexedFaceSet" && mesh.uv0.empty() && !scene_.materials[mesh.material].base_color_texture.empty())
-        defaultTextureCoordinates(mesh);
+    // A textured face set without texCoord gets the default mapping, a textured primitive the
+    // standard's, in object space.
+    const bool textured = !scene_.materials[mesh.material].base_color_texture.empty();
+    if (type == "IndexedFaceSet" && mesh.uv0.empty() && textured) defaultTextureCoordinates(mesh);
+    if (primitive && textured) primitiveTextureCoordinates(mesh, primitive->first, primitive->second);
     finishMesh(std::move(mesh), *geometry, m);
 }
 
