@@ -1,7 +1,9 @@
 #include "bake/lightmap_budget.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 namespace radbake {
@@ -15,12 +17,26 @@ std::string formatNumber(double value) {
 
 }  // namespace
 
+double defaultTexelsPerMetre(const Scene& scene) {
+    DVec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const Mesh& mesh : scene.meshes)
+        for (const Vec3& p : mesh.positions) {
+            lo = glm::min(lo, DVec3(p));
+            hi = glm::max(hi, DVec3(p));
+        }
+    const DVec3 size = hi - lo;
+    const double largest = std::max({size.x, size.y, size.z});
+    if (!(largest > 0.0) || !std::isfinite(largest)) return kDefaultTexelsPerMetre;
+    return std::max(kDefaultTexelsPerMetre, kMinTexelsAcross / largest);
+}
+
 std::optional<LightmapCharts> chartLightmapsWithinBudget(const Scene& scene, LightmapOptions options,
                                                          const LightmapBudget& budget, Diagnostics& diagnostics) {
     const double per_unit = budget.metres_per_unit;
     const bool given = budget.texels_per_unit > 0.0;
     // The imported scene is in metres; the option counts texels per scene unit.
-    options.texels_per_metre = given ? budget.texels_per_unit / per_unit : kDefaultTexelsPerMetre;
+    const double default_density = defaultTexelsPerMetre(scene);
+    options.texels_per_metre = given ? budget.texels_per_unit / per_unit : default_density;
     const SourceLocation where{scene.source_path, 0, 0};
     const double max_texels = static_cast<double>(budget.max_texels);
     // Charts are built only at a density whose texels are near the budget: the estimate costs
@@ -62,7 +78,7 @@ std::optional<LightmapCharts> chartLightmapsWithinBudget(const Scene& scene, Lig
         return std::nullopt;
     }
     if (charts.texels != wanted)
-        diagnostics.warning(where, "lightmaps at the default " + formatNumber(kDefaultTexelsPerMetre) +
+        diagnostics.warning(where, "lightmaps at the default " + formatNumber(default_density) +
                                        " texels per metre would need " + std::to_string(wanted) +
                                        " texels, above --max-texels " + std::to_string(budget.max_texels) +
                                        ": baked at " + formatNumber(options.texels_per_metre * per_unit) +

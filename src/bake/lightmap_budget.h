@@ -13,8 +13,14 @@
 namespace radbake {
 
 // Without a density given: 16 texels per metre (6.25 cm texels), whatever the file's unit, so
-// a scene in centimetres read with --unit-scale 0.01 gets the same lightmaps as one in metres.
+// a scene in centimetres read with --unit-scale 0.01 gets the same lightmaps as one in metres;
+// but at least kMinTexelsAcross along the scene's largest side, so a small scene (a model
+// box half a metre wide) still gets walls a few dozen texels across (defaultTexelsPerMetre).
 inline constexpr double kDefaultTexelsPerMetre = 16.0;
+inline constexpr double kMinTexelsAcross = 34.0;
+
+// The default density for `scene` (in metres), texels per metre.
+double defaultTexelsPerMetre(const Scene& scene);
 
 struct LightmapBudget {
     double texels_per_unit = 0.0;        // the density asked for, per scene unit; 0: the default

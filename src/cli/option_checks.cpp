@@ -170,9 +170,11 @@ void addLightmapLayoutOptions(CLI::App& command, LightmapSettings& lightmaps, st
     // Far above any real use, well below what overflows the texel arithmetic.
     constexpr double kMaxTexelDensity = 1e6;  // texels per scene unit
     constexpr long long kMaxTexels = 1LL << 32;
-    command.add_option("--texel-density", lightmaps.texels_per_unit, "Lightmap texels per scene unit")
-        ->check(positiveReal(kMaxTexelDensity))
-        ->default_str("16 per metre, from --unit-scale");
+    command
+        .add_option("--texel-density", lightmaps.texels_per_unit,
+                    "Lightmap texels per scene unit. Default: 16 per metre (16 / --unit-scale per scene unit), "
+                    "raised for a small scene to 34 texels along its largest side")
+        ->check(positiveReal(kMaxTexelDensity));
     command.add_option("--atlas-size", lightmaps.atlas_size, "Largest lightmap atlas side, in texels")
         ->transform(wholeIn(16, 16384))
         ->capture_default_str();

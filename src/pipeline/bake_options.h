@@ -19,7 +19,7 @@ namespace radbake {
 
 struct LightmapSettings {
     bool enabled = true;               // false: per-vertex light only (--no-lightmaps)
-    double texels_per_unit = 0.0;      // --texel-density; 0: 16 texels per metre (kDefaultTexelsPerMetre)
+    double texels_per_unit = 0.0;      // --texel-density; 0: the default (defaultTexelsPerMetre)
     int atlas_size = 1024;             // --atlas-size: the largest atlas side, in texels
     int padding = 2;                   // --padding: texels around every chart, filled by dilation
     double texel_tolerance = 0.02;     // --texel-tolerance; forQuality: draft 0.05, medium 0.02,
