@@ -10,6 +10,7 @@
 //
 // Dynamic lights do not light the lightmapped materials (the bake holds the scene's light).
 import { Constants } from '@babylonjs/core/Engines/constants.js';
+import { Color3 } from '@babylonjs/core/Maths/math.color.js';
 import { RawTexture } from '@babylonjs/core/Materials/Textures/rawTexture.js';
 import { Texture } from '@babylonjs/core/Materials/Textures/texture.js';
 import { ToHalfFloat } from '@babylonjs/core/Misc/halfFloat.js';
@@ -41,6 +42,11 @@ class RadbakeLightmapExtension {
       if (!this._textures.has(key)) this._textures.set(key, this._decodedTexture(extensionContext, key));
       const texture = await this._textures.get(key);
       texture.coordinatesIndex = extension.texCoord ?? 1;
+      if (material.extras?.radbake_lightmap_quantity === 'radiance') {
+        // The atlas holds the albedo already (--lightmap-quantity radiance): shown on white.
+        babylonMaterial.albedoColor = Color3.White();
+        babylonMaterial.albedoTexture = null;
+      }
       babylonMaterial.unlit = true;
       babylonMaterial.lightmapTexture = texture;
       babylonMaterial.useLightmapAsShadowmap = true;

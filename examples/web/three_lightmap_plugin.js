@@ -54,6 +54,20 @@ export class RadbakeLightmapPlugin {
     params.lightMapIntensity = extension.intensity ?? 1;
   }
 
+  // A radiance atlas (--lightmap-quantity radiance) holds the albedo already: its materials
+  // show it on white, without their base colour texture.
+  afterRoot(gltf) {
+    gltf.scene.traverse((object) => {
+      const materials = Array.isArray(object.material) ? object.material : object.material ? [object.material] : [];
+      for (const material of materials)
+        if (material.lightMap && material.userData?.radbake_lightmap_quantity === 'radiance') {
+          material.color.setRGB(1, 1, 1);
+          material.map = null;
+          material.needsUpdate = true;
+        }
+    });
+  }
+
   async decodedTexture(textureIndex) {
     const json = this.parser.json;
     const imageDef = json.images[json.textures[textureIndex].source];

@@ -42,6 +42,7 @@ struct BakeArgs {
     bool no_lightmaps = false;
     bool no_clustering = false;
     std::string edge_correction;  // "", "off", "shared" or "on": the quality's choice unless given
+    std::string lightmap_quantity = "irradiance";
     LightmapSettings lightmaps;
     // Raw knobs; applied over the preset only when given on the command line.
     double error_threshold = 0.0;
@@ -103,6 +104,8 @@ BakeOptions bakeOptions(const BakeArgs& args) {
     const double texel_tolerance = options.lightmaps.texel_tolerance;
     options.lightmaps = args.lightmaps;
     options.lightmaps.enabled = !args.no_lightmaps;
+    options.lightmaps.quantity =
+        args.lightmap_quantity == "radiance" ? LightmapQuantity::Radiance : LightmapQuantity::Irradiance;
     if (!args.texel_tolerance_option->count()) options.lightmaps.texel_tolerance = texel_tolerance;
     options.import = args.import;
     options.preview = args.preview;
@@ -289,6 +292,11 @@ void addBakeCommand(CLI::App& app, int& result) {
                             presetValuesOf([](const BakeOptions& preset) { return preset.lightmaps.texel_tolerance; }))
             ->check(nonNegativeReal(1.0));
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
+    cmd->add_option("--lightmap-quantity", args->lightmap_quantity,
+                    "What a lightmap texel holds: irradiance (H/pi; an engine multiplies it by the albedo) or "
+                    "radiance (reflectance x H/pi, for unlit pipelines); emission is in neither")
+        ->check(CLI::IsMember({"irradiance", "radiance"}))
+        ->capture_default_str();
     cmd->add_flag("--preview", args->preview,
                   "Also write preview/: a tone-mapped PNG of each atlas and a view of the baked scene");
     cmd->add_flag("--export-lights", args->export_lights,

@@ -493,6 +493,7 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                     {"index", texture}, {"texCoord", 1}, {"intensity", static_cast<float>(kPi)}};
                 extras["radbake_lightmap_png"] = png.file;
                 extras["radbake_lightmap_encoding"] = "rgbe8";
+                extras["radbake_lightmap_quantity"] = toString(options.lightmaps->quantity);
                 uses_lightmap = true;
             }
             json["extras"] = std::move(extras);
@@ -580,6 +581,10 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
         asset_extras["TEXCOORD_1"] =
             "lightmap UVs (TEXCOORD_0 repeats them when the mesh has no UVs of its own); u right, v down from the top row";
         asset_extras["radbake_lightmaps"] = options.lightmaps->atlas_files;
+        asset_extras["radbake_lightmap_quantity"] =
+            options.lightmaps->quantity == LightmapQuantity::Radiance
+                ? "radiance: reflectance x H/pi per texel, shown as it is (the base colour is in it)"
+                : "irradiance: H/pi per texel, multiplied by the base colour";
         if (lightmap_pngs) {
             GltfJson pngs = GltfJson::array();
             for (const LightmapPng& png : *lightmap_pngs) pngs.push_back(png.file);

@@ -5,12 +5,14 @@
 #include <vector>
 
 #include "bake/lightmap_mesh.h"
+#include "bake/lightmap_quantity.h"
 
 namespace radbake {
 
 struct LightmapFiles {
     std::vector<LightmapMesh> meshes;      // one per Scene mesh (lightmapMeshes); empty ones have no charts
     std::vector<std::string> atlas_files;  // per atlas, relative to the bake directory: "lightmaps/<name>_<k>.exr"
+    LightmapQuantity quantity = LightmapQuantity::Irradiance;  // what the texels hold
 };
 
 }  // namespace radbake

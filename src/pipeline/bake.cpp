@@ -66,8 +66,11 @@ void renderPreviews(Bake& out, ParallelRunner& runner, Diagnostics& diagnostics)
     const Scene& scene = *out.scene;
     const Camera* camera = scene.cameras.empty() ? nullptr : &scene.cameras.front();
     const BakedLightmaps* baked = out.lightmaps ? &*out.lightmaps : nullptr;
-    RgbImage view = renderBakedView(scene, out.vertices, baked ? &baked->lightmaps : nullptr,
-                                    baked ? &baked->files.meshes : nullptr, camera, kPreviewWidth, kPreviewHeight,
+    // The view shades lightmap irradiance with the albedo; radiance atlases hold it already, so
+    // that view reads the vertices instead.
+    const BakedLightmaps* shaded = baked && baked->files.quantity == LightmapQuantity::Irradiance ? baked : nullptr;
+    RgbImage view = renderBakedView(scene, out.vertices, shaded ? &shaded->lightmaps : nullptr,
+                                    shaded ? &shaded->files.meshes : nullptr, camera, kPreviewWidth, kPreviewHeight,
                                     diagnostics, &runner);
     const double view_exposure = autoExposure(view);
     out.previews.push_back({"preview/" + scene.name + "_view.png", std::move(view), view_exposure});
@@ -220,6 +223,9 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
             out.status = BakeStatus::InputError;
             return;
         }
+        if (options.lightmaps.quantity == LightmapQuantity::Radiance)
+            toReflectedRadiance(scene, used.padding, baked.lightmaps);
+        baked.files.quantity = options.lightmaps.quantity;
         baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
         for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
             baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");

@@ -11,6 +11,7 @@
 #include "core/parallel.h"
 #include "export/probes.h"
 #include "io/import.h"
+#include "bake/lightmap_quantity.h"
 #include "pipeline/lightmap_scales.h"
 #include "radiosity/solver_options.h"
 #include "readout/readout_options.h"
@@ -26,6 +27,8 @@ struct LightmapSettings {
                                        // high 0.01, reference 0 (every texel evaluated)
     size_t max_texels = size_t{1} << 22;  // --max-texels: chart texels of the whole bake
     bool exr_float = false;            // --exr-float: 32-bit EXRs instead of half
+    // --lightmap-quantity: what a texel holds, H/pi (engines multiply by the albedo) or rho H/pi.
+    LightmapQuantity quantity = LightmapQuantity::Irradiance;
     // --lightmap-scales FILE: per mesh or material name, a factor on the texel density
     // (lightmap_scales.h); empty: every mesh at the bake's density.
     std::vector<LightmapScaleRule> scales;

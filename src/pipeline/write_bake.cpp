@@ -85,7 +85,10 @@ bool stageLightmapExrs(OutputTransaction& transaction, const Bake& bake, Diagnos
         RgbImage image = toRgbImage(images[k]);
         image.attributes = attributes;
         image.attributes.emplace_back("radbake:atlas", std::to_string(k) + " of " + std::to_string(images.size()));
-        image.attributes.emplace_back("radbake:quantity", "H/pi: irradiance over pi, W m^-2 sr^-1, linear");
+        image.attributes.emplace_back("radbake:quantity",
+                                      baked.files.quantity == LightmapQuantity::Radiance
+                                          ? "rho H/pi: reflected radiance, reflectance times irradiance over pi, W m^-2 sr^-1, linear"
+                                          : "H/pi: irradiance over pi, W m^-2 sr^-1, linear");
         if (!writeExr(transaction.stage(baked.files.atlas_files[k]), image,
                       ExrWriteOptions{bake.options.lightmaps.exr_float}, diagnostics))
             return false;

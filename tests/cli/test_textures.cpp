@@ -531,3 +531,46 @@ TEST_CASE("textures: VRML primitives keep their texture in the glb, through the 
     CHECK(primitives >= 4);
     REQUIRE(glb.root["images"].size() == 2);  // the texture and the lightmap
 }
+
+TEST_CASE("--lightmap-quantity radiance: each texel the irradiance times the reflectance of its polygon, named as such") {
+    const TempDir tmp;
+    writePng(tmp.path / "half.png", 2, 1, 3, {0, 0, 0, 255, 255, 255});  // the floor's polygons: rho 0 and 0.8
+    writeFloorScene(tmp.path, "half.png");
+    const std::string bake = "bake " + quote(tmp.path / "floor.obj") + " --quality draft -q --texel-density 32 --solution " +
+                             quote(tmp.path / "floor.sol");
+    const RunResult irradiance = runRadbake(bake + " -o " + quote(tmp.path / "irradiance"));
+    const RunResult radiance = runRadbake(bake + " -o " + quote(tmp.path / "radiance") + " --lightmap-quantity radiance");
+    INFO(irradiance.output, radiance.output);
+    REQUIRE(irradiance.exit_code == 0);
+    REQUIRE(radiance.exit_code == 0);
+    Diagnostics diagnostics;
+    const std::optional<RgbImage> h = readExr(tmp.path / "irradiance" / "lightmaps" / "floor_0.exr", diagnostics);
+    const std::optional<RgbImage> l = readExr(tmp.path / "radiance" / "lightmaps" / "floor_0.exr", diagnostics);
+    REQUIRE(h);
+    REQUIRE(l);
+    REQUIRE(h->rgb.size() == l->rgb.size());
+    size_t black = 0, white = 0;
+    for (size_t i = 0; i < h->rgb.size(); ++i) {
+        if (!(h->rgb[i] > 1e-3f)) continue;
+        const float ratio = l->rgb[i] / h->rgb[i];
+        CAPTURE(i);
+        CAPTURE(ratio);
+        CHECK((ratio == 0.0f || std::fabs(ratio - 0.8f) < 2e-3f));  // half floats: 11 bits
+        black += ratio == 0.0f;
+        white += ratio > 0.0f;
+    }
+    CHECK(black > 20);  // the floor's black half (and the lamp, Kd 0)
+    CHECK(white > 20);  // its white half
+    const auto quantityOf = [](const RgbImage& image) {
+        for (const auto& [name, value] : image.attributes)
+            if (name == "radbake:quantity") return value;
+        return std::string();
+    };
+    CHECK(quantityOf(*h).starts_with("H/pi"));
+    CHECK(quantityOf(*l).starts_with("rho H/pi"));
+    for (const char* kind : {"irradiance", "radiance"}) {
+        const Glb glb(readBytes(tmp.path / kind / "floor.glb"));
+        for (const auto& material : glb.root["materials"])
+            if (material.contains("extensions")) CHECK(material["extras"]["radbake_lightmap_quantity"] == kind);
+    }
+}

@@ -63,11 +63,13 @@ export function surfaceFigures(pixels, width, height, truth, exr, codes) {
 }
 
 // The truth the physics gives where a material's albedo and emission are single colours:
-// shown = albedo x (the EXR's H/pi) + emission. Null for textured materials.
+// shown = albedo x (the EXR's H/pi) + emission (the EXR + emission for a radiance atlas).
+// Null for textured materials.
 export function physicalTruth(materialDef, exr) {
   const pbr = materialDef.pbrMetallicRoughness ?? {};
   if (pbr.baseColorTexture || materialDef.emissiveTexture) return null;
-  const albedo = pbr.baseColorFactor ?? [1, 1, 1, 1];
+  // A radiance atlas holds the albedo already.
+  const albedo = materialDef.extras?.radbake_lightmap_quantity === 'radiance' ? [1, 1, 1, 1] : pbr.baseColorFactor ?? [1, 1, 1, 1];
   const strength = materialDef.extensions?.KHR_materials_emissive_strength?.emissiveStrength ?? 1;
   const emission = (materialDef.emissiveFactor ?? [0, 0, 0]).map((v) => v * strength);
   return (x, y) => {
