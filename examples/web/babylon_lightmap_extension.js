@@ -41,7 +41,7 @@ class RadbakeLightmapExtension {
       const key = extension.index;
       if (!this._textures.has(key)) this._textures.set(key, this._decodedTexture(extensionContext, key));
       const texture = await this._textures.get(key);
-      texture.coordinatesIndex = extension.texCoord ?? 1;
+      texture.coordinatesIndex = extension.texCoord ?? 0; // a texture info: TEXCOORD_0 unless it says
       if (material.extras?.radbake_lightmap_quantity === 'radiance') {
         // The atlas holds the albedo already (--lightmap-quantity radiance): shown on white.
         babylonMaterial.albedoColor = Color3.White();

@@ -49,7 +49,7 @@ export class RadbakeLightmapPlugin {
     } else {
       map = await this.parser.getDependency('texture', extension.index); // a plain linear light map
     }
-    map.channel = extension.texCoord ?? 1;
+    map.channel = extension.texCoord ?? 0; // a texture info: TEXCOORD_0 unless it says (radbake writes 1)
     params.lightMap = map;
     params.lightMapIntensity = extension.intensity ?? 1;
   }

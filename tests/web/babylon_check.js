@@ -20,12 +20,13 @@ import { loadCodes, loadExr, surfaceReport } from './check_common.js';
 class LightmapSpace extends MaterialPluginBase {
   constructor(material) {
     super(material, 'LightmapSpace', 300, { RADBAKE_LIGHTMAP_SPACE: false });
+    this._uv = material.lightmapTexture.coordinatesIndex === 1 ? 'uv2' : 'uv';
     this._enable(true);
   }
   prepareDefines(defines) { defines.RADBAKE_LIGHTMAP_SPACE = true; }
   getClassName() { return 'LightmapSpace'; }
   getCustomCode(shaderType) {
-    return shaderType === 'vertex' ? { CUSTOM_VERTEX_MAIN_END: 'gl_Position = vec4(uv2 * 2.0 - 1.0, 0.0, 1.0);' } : null;
+    return shaderType === 'vertex' ? { CUSTOM_VERTEX_MAIN_END: `gl_Position = vec4(${this._uv} * 2.0 - 1.0, 0.0, 1.0);` } : null;
   }
 }
 

@@ -1,10 +1,11 @@
 // three.js: the baked glb through GLTFLoader and examples/web's plugin; each lightmapped
 // primitive is drawn with its own material into a float target laid out as its atlas
-// (the vertex shader places each vertex at its TEXCOORD_1; the fragment shader is three.js's
+// (the vertex shader places each vertex at its light map UV, TEXCOORD_1 as radbake writes it; the fragment shader is three.js's
 // own), no lights, no tone mapping. At a texel centre the light map is read exactly at
 // that texel, so the target holds what the shader shows there.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { RadbakeLightmapPlugin } from '/examples/web/three_lightmap_plugin.js';
 import { loadCodes, loadExr, surfaceReport } from './check_common.js';
 
@@ -14,7 +15,7 @@ function lightmapSpace(material) {
   copy.onBeforeCompile = (shader) => {
     shader.vertexShader = shader.vertexShader.replace(
       '#include <project_vertex>',
-      '#include <project_vertex>\n\tgl_Position = vec4( uv1 * 2.0 - 1.0, 0.0, 1.0 );');
+      '#include <project_vertex>\n\tgl_Position = vec4( vLightMapUv * 2.0 - 1.0, 0.0, 1.0 );');
   };
   copy.customProgramCacheKey = () => 'radbake-lightmap-space';
   return copy;
@@ -41,7 +42,7 @@ function drawInLightmapSpace(renderer, geometry, material, width, height) {
 export async function checkThree(bakeUrl, glbName) {
   const renderer = new THREE.WebGLRenderer({ canvas: document.createElement('canvas') });
   renderer.toneMapping = THREE.NoToneMapping;
-  const loader = new GLTFLoader();
+  const loader = new GLTFLoader().setMeshoptDecoder(MeshoptDecoder); // glTF Transform's optimize output
   loader.register((parser) => new RadbakeLightmapPlugin(parser));
   const gltf = await loader.loadAsync(`${bakeUrl}/${glbName}`);
   const json = gltf.parser.json;
