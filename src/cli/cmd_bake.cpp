@@ -43,6 +43,7 @@ struct BakeArgs {
     bool no_clustering = false;
     std::string edge_correction;  // "", "off", "shared" or "on": the quality's choice unless given
     std::string lightmap_quantity = "irradiance";
+    std::string realtime_lights;
     LightmapSettings lightmaps;
     // Raw knobs; applied over the preset only when given on the command line.
     double error_threshold = 0.0;
@@ -160,6 +161,11 @@ int runBake(const BakeArgs& args) {
         if (!rules) return kExitInputError;
         options.lightmaps.scales = std::move(*rules);
     }
+    if (!args.realtime_lights.empty()) {
+        std::optional<std::vector<RealtimeLightName>> names = readRealtimeLights(args.realtime_lights, diagnostics);
+        if (!names) return kExitInputError;
+        options.realtime_lights = std::move(*names);
+    }
     const Bake result = bake(args.scene, options, progress, diagnostics);
     if (!result.ok()) return kExitInputError;
     WrittenBake written;
@@ -169,6 +175,7 @@ int runBake(const BakeArgs& args) {
         for (const std::string& file : written.files) targets.push_back((out_dir / file).lexically_normal().string());
         if (!args.probes.empty()) inputs.push_back(args.probes);
         if (!args.lightmap_scales.empty()) inputs.push_back(args.lightmap_scales);
+        if (!args.realtime_lights.empty()) inputs.push_back(args.realtime_lights);
         if (!writeDepfile(args.depfile, targets, inputs, diagnostics)) return kExitInputError;
     }
 
@@ -292,6 +299,11 @@ void addBakeCommand(CLI::App& app, int& result) {
                             presetValuesOf([](const BakeOptions& preset) { return preset.lightmaps.texel_tolerance; }))
             ->check(nonNegativeReal(1.0));
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
+    cmd->add_option("--realtime-lights", args->realtime_lights,
+                    "Mixed lighting: a file of light names, one a line, whose direct light the engine draws; "
+                    "their light still bounces, but no vertex, texel or probe holds their direct light, and "
+                    "each atlas gets a shadowmask of their visibility")
+        ->check(nonEmptyPath());
     cmd->add_option("--lightmap-quantity", args->lightmap_quantity,
                     "What a lightmap texel holds: irradiance (H/pi; an engine multiplies it by the albedo) or "
                     "radiance (reflectance x H/pi, for unlit pipelines); emission is in neither")

@@ -276,6 +276,10 @@ Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progres
     const std::string scene_path = out.scene->source_path;
     try {
         out.options = options;
+        if (!markRealtimeLights(*out.scene, options.realtime_lights, diagnostics)) {
+            out.status = BakeStatus::InputError;
+            return out;
+        }
         addBackTwins(*out.scene);  // before every stage: each side of a two-sided mesh is a mesh of its own
         fillSceneReport(*out.scene, out);
         bakeStages(out, progress, diagnostics);

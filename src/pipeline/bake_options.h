@@ -13,6 +13,7 @@
 #include "io/import.h"
 #include "bake/lightmap_quantity.h"
 #include "pipeline/lightmap_scales.h"
+#include "pipeline/realtime_lights.h"
 #include "radiosity/solver_options.h"
 #include "readout/readout_options.h"
 
@@ -36,6 +37,8 @@ struct LightmapSettings {
 
 struct BakeOptions {
     ImportOptions import;              // when bake() reads the scene from a path
+    // --realtime-lights FILE: the lights whose direct light the engine draws (realtime_lights.h).
+    std::vector<RealtimeLightName> realtime_lights;
     SolverOptions solver;
     // How vertices, texels and probes read the solution (with lightmaps.texel_tolerance 0, the
     // exhaustive gather whatever readout.gather says).

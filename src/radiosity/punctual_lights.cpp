@@ -130,10 +130,10 @@ DVec3 lightIrradiance(const Light& light, const RayCaster* caster, const DVec3& 
 }
 
 DVec3 punctualIrradiance(std::span<const Light> lights, const RayCaster* caster, const DVec3& p_world,
-                         const DVec3& n_world, size_t* rays_cast, uint32_t receiver_mesh) {
+                         const DVec3& n_world, size_t* rays_cast, uint32_t receiver_mesh, LightSet set) {
     DVec3 total(0.0);
     for (const Light& light : lights)
-        if (receiver_mesh == kAnyMesh || light.lights(receiver_mesh))
+        if ((receiver_mesh == kAnyMesh || light.lights(receiver_mesh)) && !(set == LightSet::Baked && light.realtime))
             total += lightIrradiance(light, caster, p_world, n_world, rays_cast);
     return total;
 }

@@ -50,9 +50,14 @@ DVec3 lightIrradiance(const Light& light, const RayCaster* caster, const DVec3& 
 // every light, scoped or not.
 inline constexpr uint32_t kAnyMesh = UINT32_MAX;
 
+// Which lights a sum takes: all of them (the solve: every light's direct light bounces), or
+// only those whose direct light is baked (the read-out: not Light::realtime ones).
+enum class LightSet { All, Baked };
+
 // Sum of lightIrradiance over the lights that light `receiver_mesh` (Light::lights): a point
 // on a surface passes its mesh, so that a scoped light skips the meshes outside its scope.
 DVec3 punctualIrradiance(std::span<const Light> lights, const RayCaster* caster, const DVec3& p_world,
-                         const DVec3& n_world, size_t* rays_cast = nullptr, uint32_t receiver_mesh = kAnyMesh);
+                         const DVec3& n_world, size_t* rays_cast = nullptr, uint32_t receiver_mesh = kAnyMesh,
+                         LightSet set = LightSet::All);
 
 }  // namespace radbake

@@ -443,7 +443,7 @@ inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point,
     return point + lift * direction;
 }
 
-// Punctual lights' and the sky's direct light at a point on triangle `triangle` of Scene::meshes[mesh]
+// Punctual lights' (those whose direct light is baked: not Light::realtime) and the sky's direct light at a point on triangle `triangle` of Scene::meshes[mesh]
 // (punctual_lights.h), its shadow rays cast from kPunctualLifts lifts into its polygon where the
 // point lies on the polygon's outline (intoPolygon) and off the face: the limit from inside the face,
 // as a vertex's value is. From the point itself a ray leaving through a surface the point lies
@@ -462,7 +462,7 @@ inline DVec3 punctualInside(const Solution& solution, uint32_t mesh, uint32_t tr
         const double step = kPunctualLifts * kLift * solution.scene_extent;
         from = point + step * (intoPolygon(scene->meshes[mesh], triangle, normal, point, step) + normal);
     }
-    const DVec3 lights = punctualIrradiance(scene->lights, solution.rays.get(), from, normal, nullptr, mesh);
+    const DVec3 lights = punctualIrradiance(scene->lights, solution.rays.get(), from, normal, nullptr, mesh, LightSet::Baked);
     return sky ? lights + skyIrradiance(scene->sky, solution.rays.get(), from, normal, *sky) : lights;
 }
 

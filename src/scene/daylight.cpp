@@ -142,8 +142,10 @@ std::string addDaylight(Scene& scene, const DaylightOptions& options, std::share
     if (options.sky == SkyModel::Map) {
         if (!map || map->width < 1 || map->height < 1) return "--sky " + options.sky_map + ": no environment map read";
         const std::vector<MapSun> suns = extractSuns(*map, mapFrame(options.up));
-        for (const MapSun& sun : suns)
-            scene.lights.push_back(daylightSun(sun.direction, sun.irradiance * options.sky_radiance, sun.angular_diameter));
+        for (size_t k = 0; k < suns.size(); ++k) {
+            scene.lights.push_back(daylightSun(suns[k].direction, suns[k].irradiance * options.sky_radiance, suns[k].angular_diameter));
+            scene.lights.back().name = "map sun " + std::to_string(k + 1);
+        }
         if (suns_taken) *suns_taken = suns.size();
         scene.sky.map = std::move(map);
     }
@@ -152,9 +154,11 @@ std::string addDaylight(Scene& scene, const DaylightOptions& options, std::share
         scene.sky.radiance = Vec3(static_cast<float>(options.sky_radiance));
         scene.sky.up = options.up;
     }
-    if (options.sun)
+    if (options.sun) {
         scene.lights.push_back(daylightSun(sunDirection(*options.sun, options.up), DVec3(options.sun_irradiance),
                                            options.sun_diameter_degrees * kDegree));
+        scene.lights.back().name = "sun";
+    }
     return {};
 }
 

@@ -90,6 +90,7 @@ struct Mesh {
 enum class LightType { Point, Spot, Directional };
 
 struct Light {
+    std::string name;      // the source's (a VRML97 DEF name, an Assimp node name, "sun"); may be empty
     LightType type = LightType::Point;
     Vec3 position{0.0f};   // world; unused for Directional
     Vec3 direction{0.0f, 0.0f, -1.0f};  // world, unit; unused for Point
@@ -110,6 +111,9 @@ struct Light {
     // SpotLight are global, so are Assimp's lights).
     bool scoped = false;
     std::vector<uint32_t> scope;
+    // Mixed lighting (--realtime-lights): the engine draws this light's direct light, so the
+    // solve bounces it but the read-out leaves its direct light out of every point.
+    bool realtime = false;
     SourceLocation location;
 
     bool lights(uint32_t mesh) const;

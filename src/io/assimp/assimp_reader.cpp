@@ -364,6 +364,7 @@ struct Converter {
             const aiLight* source = ai.mLights[l];
             if (!source) continue;
             Light light;
+            light.name = source->mName.C_Str();
             switch (source->mType) {
                 case aiLightSource_POINT: light.type = LightType::Point; break;
                 case aiLightSource_SPOT: light.type = LightType::Spot; break;

@@ -341,6 +341,7 @@ void Vrml97Builder::finishMesh(Mesh mesh, const Node& geometry, const DMat4& m) 
 
 void Vrml97Builder::light(const Node& node, const DMat4& m) {
     Light light;
+    light.name = node.name;
     light.location = node.location;
     light.color = sfVec3(node, "color", Vec3(1.0f));
     light.intensity = sfFloat(node, "intensity", 1.0f);
