@@ -494,6 +494,8 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                 extras["radbake_lightmap_png"] = png.file;
                 extras["radbake_lightmap_encoding"] = "rgbe8";
                 extras["radbake_lightmap_quantity"] = toString(options.lightmaps->quantity);
+                if (k < options.lightmaps->shadowmask_files.size())
+                    extras["radbake_shadowmask"] = options.lightmaps->shadowmask_files[k];
                 uses_lightmap = true;
             }
             json["extras"] = std::move(extras);
@@ -581,6 +583,16 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
         asset_extras["TEXCOORD_1"] =
             "lightmap UVs (TEXCOORD_0 repeats them when the mesh has no UVs of its own); u right, v down from the top row";
         asset_extras["radbake_lightmaps"] = options.lightmaps->atlas_files;
+        if (!options.lightmaps->shadowmask_files.empty()) {
+            asset_extras["radbake_shadowmasks"] = options.lightmaps->shadowmask_files;
+            GltfJson channels = GltfJson::object();
+            for (const auto& [name, channel] : options.lightmaps->shadowmask_channels) channels[name] = channel;
+            asset_extras["radbake_shadowmask_channels"] = std::move(channels);
+            asset_extras["radbake_shadowmask"] =
+                "mixed lighting: the lights named in radbake_shadowmask_channels are drawn by the engine (their direct "
+                "light is in no lightmap texel or vertex); each atlas's shadowmask PNG holds, in that light's channel "
+                "(0 R, 1 G, 2 B, 3 A), its visible share per texel, linear, 255 = unshadowed";
+        }
         asset_extras["radbake_lightmap_quantity"] =
             options.lightmaps->quantity == LightmapQuantity::Radiance
                 ? "radiance: reflectance x H/pi per texel, shown as it is (the base colour is in it)"

@@ -226,6 +226,12 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         if (options.lightmaps.quantity == LightmapQuantity::Radiance)
             toReflectedRadiance(scene, used.padding, baked.lightmaps);
         baked.files.quantity = options.lightmaps.quantity;
+        baked.shadowmask = bakeShadowmask(*out.solution, baked.lightmaps.layout, used.padding, runner, diagnostics);
+        for (size_t k = 0; k < baked.shadowmask.images.size(); ++k)
+            baked.files.shadowmask_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_shadowmask.png");
+        for (size_t l = 0; l < scene.lights.size(); ++l)
+            if (baked.shadowmask.channel[l] >= 0)
+                baked.files.shadowmask_channels.emplace_back(scene.lights[l].name, baked.shadowmask.channel[l]);
         baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
         for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
             baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bake/lightmap_bake.h"
+#include "bake/shadowmask.h"
 #include "readout/vertex_bake.h"
 #include "core/diagnostics.h"
 #include "core/progress.h"
@@ -36,6 +37,7 @@ const char* toString(BakeStatus status);
 struct BakedLightmaps {
     Lightmaps lightmaps;  // atlases (EXR images), layout, texel counts
     LightmapFiles files;  // the meshes split at chart seams (TEXCOORD_1) and each atlas's file name
+    Shadowmask shadowmask;  // with real-time lights (--realtime-lights): their visibility per texel
 };
 
 struct PreviewImage {

@@ -133,6 +133,13 @@ bool stageAll(const Bake& bake, OutputTransaction& transaction, Diagnostics& dia
     if (bake.lightmaps && !stageLightmapExrs(transaction, bake, diagnostics)) return false;
     for (const LightmapPng& png : lightmap_pngs)
         if (!writeFileBytes(transaction.stage(png.file), png.bytes, diagnostics)) return false;
+    if (bake.lightmaps) {
+        const Shadowmask& mask = bake.lightmaps->shadowmask;
+        for (size_t k = 0; k < mask.images.size(); ++k)
+            if (!writeFileBytes(transaction.stage(bake.lightmaps->files.shadowmask_files[k]),
+                                encodeRgba8Png(mask.widths[k], mask.heights[k], mask.images[k]), diagnostics))
+                return false;
+    }
     for (const PreviewImage& preview : bake.previews)
         if (!writePreviewPng(transaction.stage(preview.file), preview.image, preview.exposure, diagnostics))
             return false;

@@ -453,15 +453,20 @@ inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point,
 inline constexpr double kPunctualLifts = 4.0;
 // `sky`: the sky's quadrature at the point; null leaves the sky out (a link read takes it from its
 // leaf's corners, skyInElement).
+// Where the shadow rays of a point on that triangle start (the point itself off any triangle).
+inline DVec3 punctualFrom(const Solution& solution, uint32_t mesh, uint32_t triangle, const DVec3& point,
+                          const DVec3& normal) {
+    const Scene* scene = solution.scene;
+    if (!scene || mesh >= scene->meshes.size() || triangle >= scene->meshes[mesh].triangles.size()) return point;
+    const double step = kPunctualLifts * kLift * solution.scene_extent;
+    return point + step * (intoPolygon(scene->meshes[mesh], triangle, normal, point, step) + normal);
+}
+
 inline DVec3 punctualInside(const Solution& solution, uint32_t mesh, uint32_t triangle, const DVec3& point,
                             const DVec3& normal, const SkyQuadrature* sky) {
     const Scene* scene = solution.scene;
     if (!scene || (scene->lights.empty() && (!sky || !scene->sky.shines()))) return DVec3(0.0);
-    DVec3 from = point;
-    if (mesh < scene->meshes.size() && triangle < scene->meshes[mesh].triangles.size()) {
-        const double step = kPunctualLifts * kLift * solution.scene_extent;
-        from = point + step * (intoPolygon(scene->meshes[mesh], triangle, normal, point, step) + normal);
-    }
+    const DVec3 from = punctualFrom(solution, mesh, triangle, point, normal);
     const DVec3 lights = punctualIrradiance(scene->lights, solution.rays.get(), from, normal, nullptr, mesh, LightSet::Baked);
     return sky ? lights + skyIrradiance(scene->sky, solution.rays.get(), from, normal, *sky) : lights;
 }

@@ -313,3 +313,32 @@ TEST_CASE("--lightmap-scales: the named mesh gets scale^2 times the texels; the 
     CHECK(bad.output.find("bad.txt:1:7: error:") != std::string::npos);
     CHECK_FALSE(fs::exists(tmp.path / "bad"));
 }
+
+TEST_CASE("--realtime-lights writes each atlas's shadowmask beside it, named in the glb with its lights' channels") {
+    TempDir tmp;
+    writeText(tmp.path / "lit.wrl",
+              "#VRML V2.0 utf8\n"
+              "DEF Lamp PointLight { location 0 1 0 }\n"
+              "DEF Fill PointLight { location 0.5 1 0 intensity 0.5 }\n"
+              "Shape { appearance Appearance { material Material { diffuseColor 0.5 0.5 0.5 } }\n"
+              "  geometry IndexedFaceSet { coord Coordinate { point [-1 0 -1, -1 0 1, 1 0 1, 1 0 -1] }\n"
+              "    coordIndex [0 1 2 3 -1] } }\n");
+    writeText(tmp.path / "realtime.txt", "# drawn by the engine\nLamp\n");
+    writeText(tmp.path / "wrong.txt", "Lamp\nLamp2\n");
+    const fs::path out = tmp.path / "out";
+    const std::string bake = "bake " + quote(tmp.path / "lit.wrl") + " -q --quality draft --realtime-lights ";
+    const RunResult run = runRadbake(bake + quote(tmp.path / "realtime.txt") + " -o " + quote(out));
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    CHECK(fs::exists(out / "lightmaps" / "lit_0_shadowmask.png"));
+    const nlohmann::json json = nlohmann::json::parse(glbJson(out / "lit.glb"));
+    CHECK(json.at("asset").at("extras").at("radbake_shadowmask_channels") == nlohmann::json({{"Lamp", 0}}));
+    for (const nlohmann::json& material : json.at("materials"))
+        if (material.contains("extensions"))
+            CHECK(material.at("extras").at("radbake_shadowmask").get<std::string>() == "lightmaps/lit_0_shadowmask.png");
+    const RunResult refused = runRadbake(bake + quote(tmp.path / "wrong.txt") + " -o " + quote(tmp.path / "b"));
+    CHECK(refused.exit_code == 1);
+    CHECK(refused.output.find("wrong.txt:2:1: error: no light is named 'Lamp2' (named lights: 'Lamp', 'Fill')") !=
+          std::string::npos);
+    CHECK_FALSE(fs::exists(tmp.path / "b"));
+}

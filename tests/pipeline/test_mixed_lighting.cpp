@@ -1,0 +1,151 @@
+// Mixed lighting (issue 33, --realtime-lights): lights the engine draws keep their bounce in the
+// bake but not their direct light, and the shadowmask holds their visible share per texel.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "daylight_scenes.h"
+#include "reference_mc.h"
+
+using namespace radbake;
+using daylight_test::quad;
+using testfs::TempDir;
+
+namespace {
+
+Bake bakeMixed(const TempDir& dir, const std::string& body, const DaylightOptions& daylight,
+               const std::vector<std::string>& realtime, const std::vector<Probe>& probes, double density) {
+    BakeOptions options = BakeOptions::forQuality(Quality::Medium);
+    options.import.daylight = daylight;
+    options.lightmaps.texels_per_unit = density;
+    options.probes = probes;
+    options.threading.threads = 2;
+    for (const std::string& name : realtime) options.realtime_lights.push_back({name, {}});
+    Progress progress(false);
+    Diagnostics diagnostics;
+    Bake baked = bake(testfs::writeText(dir, "mixed.wrl", "#VRML V2.0 utf8\n" + body), options, progress, diagnostics);
+    REQUIRE(std::string(toString(baked.status)) == "ok");
+    REQUIRE(baked.lightmaps);
+    return baked;
+}
+
+}  // namespace
+
+// A floor and a white wall lit by a lamp the engine draws: the bake keeps what the wall
+// reflects onto the floor, not the lamp's own light. The lamp's direct light is the closed form
+// I cos / d^2; what is left of reference_mc's total is the bounce.
+TEST_CASE("--realtime-lights: a point light's direct light leaves the bake, its bounce stays (against reference_mc)") {
+    TempDir dir;
+    const std::string body = "DEF Lamp PointLight { location 0 1 0 intensity 1 }\n" +
+                             quad({{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, 0.5) +
+                             quad({{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, 0.8);
+    const std::vector<Probe> probes = {daylight_test::probe({0, 0, 0.5}, {0, 1, 0}), daylight_test::probe({0.5, 0, -0.5}, {0, 1, 0}),
+                                       daylight_test::probe({-0.5, 0, 0}, {0, 1, 0})};
+    const Bake all = bakeMixed(dir, body, {}, {}, probes, 16);
+    const Bake mixed = bakeMixed(dir, body, {}, {"Lamp"}, probes, 16);
+    reference::McOptions mc;
+    mc.samples = 65536;
+    mc.threads = 2;
+    const std::vector<reference::McProbe> at = {{probes[0].position, probes[0].normal},
+                                                {probes[1].position, probes[1].normal},
+                                                {probes[2].position, probes[2].normal}};
+    const std::vector<reference::McProbeResult> total = reference::estimateProbes(reference::McBvh(*all.scene), at, mc);
+    for (size_t i = 0; i < probes.size(); ++i) {
+        CAPTURE(probes[i].position);
+        const DVec3 to_lamp = DVec3(0, 1, 0) - probes[i].position;
+        const double direct = to_lamp.y / glm::length(to_lamp) / glm::dot(to_lamp, to_lamp);  // I cos / d^2, I = 1
+        const double bounce = total[i].irradiance.x - direct;
+        const double baked = mixed.probe_irradiance[i].x;
+        MESSAGE("bounce only " << baked << ", reference total " << total[i].irradiance.x << " +- "
+                               << total[i].standard_error.x << " less the direct " << direct);
+        REQUIRE(bounce > 0.02);
+        CHECK(total[i].standard_error.x < 0.1 * bounce);
+        CHECK(std::abs(baked - bounce) < 0.15 * bounce);  // with the lamp: several times the bounce
+        CHECK(std::abs(all.probe_irradiance[i].x - baked - direct) < 1e-6 + 1e-3 * direct);  // exactly the direct light gone
+    }
+    // The lightmap drops by the same: the floor's texels hold the bounce, a fraction of the light.
+    double sum_all = 0.0, sum_mixed = 0.0;
+    for (const float v : all.lightmaps->lightmaps.images[0].rgb) sum_all += v;
+    for (const float v : mixed.lightmaps->lightmaps.images[0].rgb) sum_mixed += v;
+    CHECK(sum_mixed < 0.5 * sum_all);
+    CHECK(sum_mixed > 0.0);
+    CHECK(mixed.lightmaps->shadowmask.lights == 1);
+    CHECK(all.lightmaps->shadowmask.images.empty());
+}
+
+// The sun (a 5 degree disc) straight above a floor, half of it under a plane 1 m up whose
+// straight edge runs along x = 0: the shadowmask reads the visible share of the disc, which a
+// straight edge cuts as a chord: (acos c - c sqrt(1 - c^2)) / pi with c = -x / tan(2.5 deg).
+TEST_CASE("the shadowmask of a disc light under a straight edge: the disc's visible share, 0.5 on the shadow line") {
+    TempDir dir;
+    const std::string body = quad({{-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}}, 0.5) +
+                             quad({{-3, 1, -3}, {-3, 1, 3}, {0, 1, 3}, {0, 1, -3}}, 0.5, true);
+    DaylightOptions sun;
+    sun.sun = SunPosition{0.0, 90.0};
+    sun.sun_diameter_degrees = 5.0;
+    const Bake baked = bakeMixed(dir, body, sun, {"sun"}, {}, 64);
+    const Shadowmask& mask = baked.lightmaps->shadowmask;
+    REQUIRE(mask.images.size() == baked.lightmaps->lightmaps.images.size());
+    REQUIRE(mask.channel.size() == 1);
+    CHECK(mask.channel[0] == 0);
+    CHECK(mask.lights_without_channel == 0);
+    const double radius = std::tan(2.5 * kPi / 180.0);
+    const LightmapLayout& layout = baked.lightmaps->lightmaps.layout;
+    size_t penumbra = 0, lit = 0, dark = 0;
+    std::vector<double> flanking;  // the texels either side of the shadow line
+    for (const LightmapChart& chart : layout.charts) {
+        if (chart.mesh != 0) continue;  // the floor
+        for (int ty = chart.y; ty < chart.y + chart.height; ++ty)
+            for (int tx = chart.x; tx < chart.x + chart.width; ++tx) {
+                const DVec2 centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
+                const DVec3 p = chart.worldPoint(centre);
+                if (std::abs(p.x) > 1.5 || std::abs(p.z) > 1.5) continue;  // away from the floor's and the plane's ends
+                const double c = std::clamp(-p.x / radius, -1.0, 1.0);
+                const double expected = (std::acos(c) - c * std::sqrt(1.0 - c * c)) / kPi;
+                const size_t atlas = static_cast<size_t>(chart.atlas);
+                const double got = mask.images[atlas][4 * (static_cast<size_t>(ty) * mask.widths[atlas] + tx)] / 255.0;
+                CAPTURE(p.x);
+                // The sun's disc is sampled at 6 x 6 points in a penumbra (punctual_lights.cpp):
+                // its visible share is within two of them.
+                CHECK(std::abs(got - expected) < 2.0 / 36.0);
+                if (std::abs(p.x) < 0.5 / chart.texels_per_metre + 1e-9) flanking.push_back(got);
+                penumbra += expected > 0.05 && expected < 0.95;
+                lit += expected == 1.0 && got == 1.0;
+                dark += expected == 0.0 && got == 0.0;
+            }
+    }
+    CHECK(penumbra >= 20);
+    // Bilinear filtering on the shadow line (between two texel centres) reads their mean: 0.5.
+    REQUIRE(flanking.size() >= 20);
+    double mean = 0.0;
+    for (const double v : flanking) mean += v / static_cast<double>(flanking.size());
+    CHECK(mean == doctest::Approx(0.5).epsilon(0.01));
+    CHECK(lit > 1000);
+    CHECK(dark > 1000);
+}
+
+// Six lamps along a corridor floor, each reaching only its neighbours (radius), get channels so
+// that no two lighting one texel share one; five overlapping at one texel leave one without.
+TEST_CASE("shadowmask channels: overlapping lights differ, a fifth overlapping four is counted") {
+    TempDir dir;
+    std::string lamps;
+    for (int i = 0; i < 6; ++i)
+        lamps += "DEF L" + std::to_string(i) + " PointLight { location " + std::to_string(2 * i) + " 1 0 radius 2.5 }\n";
+    const std::string floor = quad({{-1, 0, -1}, {-1, 0, 1}, {11, 0, 1}, {11, 0, -1}}, 0.5);
+    const Bake corridor = bakeMixed(dir, lamps + floor, {}, {"L0", "L1", "L2", "L3", "L4", "L5"}, {}, 8);
+    const Shadowmask& mask = corridor.lightmaps->shadowmask;
+    REQUIRE(mask.channel.size() == 6);
+    for (int i = 0; i + 1 < 6; ++i) CHECK(mask.channel[i] != mask.channel[i + 1]);  // neighbours overlap
+    for (int i = 0; i < 6; ++i) CHECK(mask.channel[i] >= 0);
+    CHECK(mask.lights_without_channel == 0);
+
+    std::string crowd;
+    for (int i = 0; i < 5; ++i) crowd += "DEF C" + std::to_string(i) + " PointLight { location " + std::to_string(0.1 * i) + " 1 0 }\n";
+    const Bake crowded = bakeMixed(dir, crowd + floor, {}, {"C0", "C1", "C2", "C3", "C4"}, {}, 8);
+    CHECK(crowded.lightmaps->shadowmask.lights_without_channel == 1);
+    CHECK(crowded.lightmaps->shadowmask.texels_over_channels > 0);
+    CHECK(crowded.lightmaps->shadowmask.channel[4] == -1);
+}
