@@ -87,6 +87,11 @@ std::string formatStatsJson(const BakeReport& r) {
         out["hidden_texels"] = l.hidden_texels;
         out["texel_tolerance"] = l.texel_tolerance;
         out["occupancy"] = l.occupancy;
+        if (l.realtime_lights > 0) {
+            out["realtime_lights"] = l.realtime_lights;
+            out["shadowmask_lights_without_channel"] = l.shadowmask_lights_without_channel;
+            out["shadowmask_texels_over_channels"] = l.shadowmask_texels_over_channels;
+        }
     }
     // Only when the link read-out read them (not the exhaustive gather).
     const auto readout = [&](const char* name, const ReadoutReport& w) {

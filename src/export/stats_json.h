@@ -27,6 +27,9 @@ struct LightmapReport {
     size_t hidden_texels = 0;      // texels with geometry inside other geometry (under a block), dilated
     double texel_tolerance = 0.0;
     double occupancy = 0.0;        // chart texels (padding excluded) / atlas texels
+    // Mixed lighting (--realtime-lights): lights the engine draws, those the shadowmask has no
+    // channel for, and texels more than four of them light.
+    size_t realtime_lights = 0, shadowmask_lights_without_channel = 0, shadowmask_texels_over_channels = 0;
 };
 
 // The link read-out's work (LinkReconstruction::work) at vertices and at texels (seam fit

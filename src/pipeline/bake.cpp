@@ -121,6 +121,9 @@ void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& opti
     report.hidden_texels = baked.lightmaps.hidden_texels;
     report.texel_tolerance = options.texel_tolerance;
     report.occupancy = layout.occupancy;
+    report.realtime_lights = baked.shadowmask.lights;
+    report.shadowmask_lights_without_channel = baked.shadowmask.lights_without_channel;
+    report.shadowmask_texels_over_channels = baked.shadowmask.texels_over_channels;
 }
 
 // Every stage after the import; sets out.status.
@@ -235,7 +238,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
         for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
             baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");
-        fillLightmapReport(baked, used, metres_per_unit, out.report.lightmaps);
+        fillLightmapReport(baked, used, metres_per_unit, out.report.lightmaps);  // after the shadowmask
         out.report.texel_readout = readoutReport(baked.lightmaps.work);
         out.lightmaps = std::move(baked);
     }

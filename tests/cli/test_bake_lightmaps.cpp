@@ -331,6 +331,9 @@ TEST_CASE("--realtime-lights writes each atlas's shadowmask beside it, named in 
     INFO(run.output);
     REQUIRE(run.exit_code == 0);
     CHECK(fs::exists(out / "lightmaps" / "lit_0_shadowmask.png"));
+    const nlohmann::json stats = nlohmann::json::parse(readBytes(out / "stats.json"));
+    CHECK(stats.at("realtime_lights") == 1);
+    CHECK(stats.at("shadowmask_lights_without_channel") == 0);
     const nlohmann::json json = nlohmann::json::parse(glbJson(out / "lit.glb"));
     CHECK(json.at("asset").at("extras").at("radbake_shadowmask_channels") == nlohmann::json({{"Lamp", 0}}));
     for (const nlohmann::json& material : json.at("materials"))
