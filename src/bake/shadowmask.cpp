@@ -5,6 +5,7 @@
 #include <cmath>
 #include <set>
 
+#include "bake/chart_dilation.h"
 #include "radiosity/punctual_lights.h"
 #include "readout/gather.h"
 
@@ -12,15 +13,6 @@ namespace radbake {
 namespace {
 
 constexpr size_t kMaxMaskedLights = 64;  // one bit each in a texel's reach mask
-
-bool insidePolygon(const std::vector<DVec2>& poly, const DVec2& p) {
-    bool inside = false;
-    for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-        if ((poly[i].y > p.y) != (poly[j].y > p.y) &&
-            p.x < (poly[j].x - poly[i].x) * (p.y - poly[i].y) / (poly[j].y - poly[i].y) + poly[i].x)
-            inside = !inside;
-    return inside;
-}
 
 struct AtlasMask {
     int width = 0, height = 0;
@@ -35,10 +27,9 @@ void maskChart(const Solution& solution, const LightmapChart& chart, const std::
     const Scene& scene = *solution.scene;
     for (int ty = chart.y; ty < chart.y + chart.height; ++ty)
         for (int tx = chart.x; tx < chart.x + chart.width; ++tx) {
-            const DVec2 centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
-            const auto face = std::find_if(chart.faces.begin(), chart.faces.end(),
-                                           [&](const ChartFace& f) { return insidePolygon(f.p_plane, centre); });
-            if (face == chart.faces.end()) continue;
+            DVec2 centre;
+            const ChartFace* face = faceAtTexel(chart, tx, ty, centre);
+            if (!face) continue;
             const size_t i = static_cast<size_t>(ty) * static_cast<size_t>(atlas.width) + static_cast<size_t>(tx);
             atlas.covered[i] = 1;
             const DVec3 normal = face->normal_world;
@@ -55,31 +46,6 @@ void maskChart(const Solution& solution, const LightmapChart& chart, const std::
                 atlas.reach[i] |= uint64_t{1} << k;
             }
         }
-}
-
-// Texels of a chart's padded rectangle off its geometry take a covered neighbour's value,
-// ring by ring, so bilinear filtering at the chart's edge reads the chart's own visibility.
-void dilateChart(const LightmapChart& chart, int padding, AtlasMask& atlas, std::vector<uint8_t>& image) {
-    const int x0 = std::max(0, chart.x - padding), x1 = std::min(atlas.width, chart.x + chart.width + padding);
-    const int y0 = std::max(0, chart.y - padding), y1 = std::min(atlas.height, chart.y + chart.height + padding);
-    const auto index = [&](int x, int y) { return static_cast<size_t>(y) * static_cast<size_t>(atlas.width) + static_cast<size_t>(x); };
-    for (bool changed = true; changed;) {
-        changed = false;
-        std::vector<size_t> filled;
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-                if (atlas.covered[index(x, y)]) continue;
-                const int near[4][2] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
-                for (const auto& n : near)
-                    if (n[0] >= x0 && n[0] < x1 && n[1] >= y0 && n[1] < y1 && atlas.covered[index(n[0], n[1])]) {
-                        std::copy_n(&image[4 * index(n[0], n[1])], 4, &image[4 * index(x, y)]);
-                        filled.push_back(index(x, y));
-                        break;
-                    }
-            }
-        for (const size_t i : filled) atlas.covered[i] = 1;
-        changed = !filled.empty();
-    }
 }
 
 }  // namespace
@@ -150,7 +116,9 @@ Shadowmask bakeShadowmask(const Solution& solution, const LightmapLayout& layout
             for (size_t k = 0; k < realtime.size(); ++k)
                 if ((atlas.reach[i] >> k & 1) && mask.channel[realtime[k]] >= 0)
                     image[4 * i + static_cast<size_t>(mask.channel[realtime[k]])] = atlas.seen[k][i];
-        for (const uint32_t c : layout.atlases[a].charts) dilateChart(layout.charts[c], padding, atlas, image);
+        for (const uint32_t c : layout.atlases[a].charts)
+            dilateChartTexels(layout.charts[c], padding, atlas.width, atlas.height, atlas.covered,
+                              [&](size_t to, size_t from) { std::copy_n(&image[4 * from], 4, &image[4 * to]); });
         mask.images.push_back(std::move(image));
         mask.widths.push_back(atlas.width);
         mask.heights.push_back(atlas.height);

@@ -299,6 +299,9 @@ void addBakeCommand(CLI::App& app, int& result) {
                             presetValuesOf([](const BakeOptions& preset) { return preset.lightmaps.texel_tolerance; }))
             ->check(nonNegativeReal(1.0));
     cmd->add_flag("--exr-float", args->lightmaps.exr_float, "Write lightmaps as 32-bit float instead of half");
+    cmd->add_flag("--directional", args->lightmaps.directional,
+                  "Directional lightmaps: also lightmaps/<name>_<k>_direction.exr, how each texel's light changes "
+                  "with the normal (for normal maps: E(n) = lightmap x max(0, 1 + g . (n - n0))); nine reads a texel");
     cmd->add_option("--realtime-lights", args->realtime_lights,
                     "Mixed lighting: a file of light names, one a line, whose direct light the engine draws; "
                     "their light still bounces, but no vertex, texel or probe holds their direct light, and "

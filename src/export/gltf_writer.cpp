@@ -496,6 +496,8 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
                 extras["radbake_lightmap_quantity"] = toString(options.lightmaps->quantity);
                 if (k < options.lightmaps->shadowmask_files.size())
                     extras["radbake_shadowmask"] = options.lightmaps->shadowmask_files[k];
+                if (k < options.lightmaps->direction_files.size())
+                    extras["radbake_lightmap_direction"] = options.lightmaps->direction_files[k];
                 uses_lightmap = true;
             }
             json["extras"] = std::move(extras);
@@ -583,6 +585,11 @@ std::string encodeGlb(const Scene& scene, const VertexBake& bake, const GltfOpti
         asset_extras["TEXCOORD_1"] =
             "lightmap UVs (TEXCOORD_0 repeats them when the mesh has no UVs of its own); u right, v down from the top row";
         asset_extras["radbake_lightmaps"] = options.lightmaps->atlas_files;
+        if (!options.lightmaps->direction_files.empty())
+            asset_extras["radbake_lightmap_direction"] =
+                "directional lightmaps: each material's extras.radbake_lightmap_direction names an EXR holding g (world "
+                "x y z) per texel; the irradiance at a normal-mapped normal n is the lightmap's times max(0, 1 + g . (n - "
+                "n0)), n0 the surface normal";
         if (!options.lightmaps->shadowmask_files.empty()) {
             asset_extras["radbake_shadowmasks"] = options.lightmaps->shadowmask_files;
             GltfJson channels = GltfJson::object();

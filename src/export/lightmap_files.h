@@ -18,6 +18,8 @@ struct LightmapFiles {
     // and each masked light's name and channel (bake/shadowmask.h).
     std::vector<std::string> shadowmask_files;
     std::vector<std::pair<std::string, int>> shadowmask_channels;
+    // With --directional: per atlas its direction EXR ("lightmaps/<name>_<k>_direction.exr").
+    std::vector<std::string> direction_files;
 };
 
 }  // namespace radbake

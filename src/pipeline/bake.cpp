@@ -232,6 +232,11 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         baked.shadowmask = bakeShadowmask(*out.solution, baked.lightmaps.layout, used.padding, runner, diagnostics);
         for (size_t k = 0; k < baked.shadowmask.images.size(); ++k)
             baked.files.shadowmask_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_shadowmask.png");
+        if (options.lightmaps.directional) {
+            baked.directions = bakeLightmapDirections(*out.solution, readout, baked.lightmaps.layout, used.padding, runner);
+            for (size_t k = 0; k < baked.directions.images.size(); ++k)
+                baked.files.direction_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_direction.exr");
+        }
         for (size_t l = 0; l < scene.lights.size(); ++l)
             if (baked.shadowmask.channel[l] >= 0)
                 baked.files.shadowmask_channels.emplace_back(scene.lights[l].name, baked.shadowmask.channel[l]);

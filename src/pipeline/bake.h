@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bake/lightmap_bake.h"
+#include "bake/lightmap_directions.h"
 #include "bake/shadowmask.h"
 #include "readout/vertex_bake.h"
 #include "core/diagnostics.h"
@@ -38,6 +39,7 @@ struct BakedLightmaps {
     Lightmaps lightmaps;  // atlases (EXR images), layout, texel counts
     LightmapFiles files;  // the meshes split at chart seams (TEXCOORD_1) and each atlas's file name
     Shadowmask shadowmask;  // with real-time lights (--realtime-lights): their visibility per texel
+    LightmapDirections directions;  // with --directional: how each texel's light changes with the normal
 };
 
 struct PreviewImage {

@@ -30,6 +30,7 @@ struct LightmapSettings {
     bool exr_float = false;            // --exr-float: 32-bit EXRs instead of half
     // --lightmap-quantity: what a texel holds, H/pi (engines multiply by the albedo) or rho H/pi.
     LightmapQuantity quantity = LightmapQuantity::Irradiance;
+    bool directional = false;          // --directional: also each texel's direction atlas (lightmap_directions.h)
     // --lightmap-scales FILE: per mesh or material name, a factor on the texel density
     // (lightmap_scales.h); empty: every mesh at the bake's density.
     std::vector<LightmapScaleRule> scales;

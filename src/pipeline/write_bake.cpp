@@ -93,6 +93,20 @@ bool stageLightmapExrs(OutputTransaction& transaction, const Bake& bake, Diagnos
                       ExrWriteOptions{bake.options.lightmaps.exr_float}, diagnostics))
             return false;
     }
+    const LightmapDirections& directions = baked.directions;
+    for (size_t k = 0; k < directions.images.size(); ++k) {
+        RgbImage image;
+        image.width = directions.widths[k];
+        image.height = directions.heights[k];
+        image.rgb = directions.images[k];
+        image.attributes = attributes;
+        image.attributes.emplace_back("radbake:atlas", std::to_string(k) + " of " + std::to_string(directions.images.size()));
+        image.attributes.emplace_back("radbake:quantity",
+                                      "g (x y z, world): the lightmap's irradiance at normal n is lightmap * max(0, 1 + "
+                                      "g . (n - n0)), n0 the surface normal (a linear fit to reads at n0 and 30 degree tilts)");
+        if (!writeExr(transaction.stage(baked.files.direction_files[k]), image, ExrWriteOptions{true}, diagnostics))
+            return false;
+    }
     return true;
 }
 
