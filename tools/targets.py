@@ -133,6 +133,11 @@ TARGETS = [
     ("analytic scenes: probes outside rel_tol (medium)", 6, "met", "quick", "analytic", "outside", "==", 0),
     ("closed-form tests failing (doctest)", 13, "met", "quick", "closed_form_tests", "failed", "==", 0),
     ("closed closet at draft: light / room's", 28, "open", "quick", "closet", "ratio", "<=", 1e-4),
+    # Lightmaps in the browser (issue 33): tests/web/lightmap_check.mjs on house.wrl's default
+    # bake, three.js and Babylon.js; surfaces brighter than 1 % of the brightest.
+    ("house.wrl in the browser: worst surface median vs the EXR %", 33, "open", "quick", "web_house", "encoding_worst", "<=", 3.0),
+    ("house.wrl in the browser: worst material vs albedo x H/pi %", 33, "open", "quick", "web_house", "material_worst", "<=", 3.0),
+    ("house.wrl in the browser: largest decoded step %", 33, "open", "quick", "web_house", "step_max", "<=", 2.0),
     # graz.wrl (long).
     ("graz.wrl: solve (aabb) s", 11, "met", "long", "graz_solve", "aabb_s", "<=", 30.0),
     ("graz.wrl: solve peak MB", 11, "met", "long", "graz_solve", "rss_mb", "<=", 2048.0),
@@ -616,6 +621,38 @@ def m_shared_solve(key):
     return measure
 
 
+def m_web(key):
+    """tests/web/lightmap_check.mjs on a default bake of a shared scene: per engine and judged
+    surface (median H/pi above 1 % of the brightest surface's), the worst relative error of its
+    median against the EXR and of its material against albedo x H/pi, and the largest step."""
+    def measure(r):
+        out, fig = r.bake(r.shared(key), key + "_web", "--threads", "2", "--read-root", r.scenes)
+        if not shutil.which("node"):
+            raise Unmeasured("node missing (tools/setup_web.sh)")
+        report = os.path.join(out, "web.json")
+        r.run(["node", os.path.join(REPO, "tests/web/lightmap_check.mjs"), "--bake", out, "--json", report], check=False)
+        if not os.path.isfile(report):
+            raise Unmeasured("the browser check did not run (tools/setup_web.sh)")
+        with open(report) as f:
+            engines = json.load(f)
+        encoding, material, steps, judged = [], [], [], 0
+        for engine in engines:
+            drawn = [s for s in engine["surfaces"] if s["texels"] > 0]
+            brightest = max(s["lightmap_median"] for s in drawn)
+            for s in drawn:
+                if not s["lightmap_median"] > 0.01 * brightest:
+                    continue
+                judged += 1
+                encoding.append(abs(s["shown_median"] / s["expected_median"] - 1.0))
+                if s.get("physical_median"):
+                    material.append(abs(s["material_median"] / s["physical_median"] - 1.0))
+                steps.append(s["largest_step"])
+        fig.update({"encoding_worst": 100.0 * max(encoding), "material_worst": 100.0 * max(material or [0.0]),
+                    "step_max": 100.0 * max(steps), "judged": judged})
+        return fig
+    return measure
+
+
 def m_paper(name):
     def measure(r):
         base = os.path.join(REPO, PAPER[name])
@@ -755,6 +792,7 @@ MEASUREMENTS = {
     "cornell1t": (m_cornell("16", "1"), False, []),
     "house_bake": (m_shared_bake("house", "--no-lightmaps"), False, []),
     "house_solve": (m_shared_solve("house"), False, []),
+    "web_house": (m_web("house"), False, []),
     "water_solve": (m_shared_solve("water"), False, []),
     "sphere_bake": (m_shared_bake("sphere", "--no-lightmaps"), False, []),
     "paper_cornell_box": (m_paper("cornell_box"), False, []),
