@@ -17,12 +17,13 @@ export function median(values) {
 // The atlas EXR as { width, height, at(x, y) -> [r, g, b], negative } with y = 0 the image's
 // top row (EXRLoader's rows run bottom-up). Negative light (a solve's error the EXR keeps) is
 // read as 0, as any display shows it and as the PNG holds it; `negative` counts such texels.
-export async function loadExr(url) {
+// `light` false: signed data (a direction EXR), read as it is.
+export async function loadExr(url, light = true) {
   const texture = await new EXRLoader().setDataType(FloatType).loadAsync(url);
   const { width, height, data } = texture.image;
   const channels = data.length / (width * height);
   let negative = 0;
-  for (let i = 0; i < width * height; ++i)
+  for (let i = 0; i < width * height && light; ++i)
     if (data[i * channels] < 0 || data[i * channels + 1] < 0 || data[i * channels + 2] < 0) ++negative;
   return {
     width,
@@ -30,6 +31,7 @@ export async function loadExr(url) {
     negative,
     at(x, y) {
       const i = ((height - 1 - y) * width + x) * channels;
+      if (!light) return [data[i], data[i + 1], data[i + 2]];  // not light: signed data (directions)
       return [Math.max(data[i], 0), Math.max(data[i + 1], 0), Math.max(data[i + 2], 0)];
     },
   };

@@ -74,11 +74,20 @@ function verdict(result, args) {
     const judged = s.lightmap_median > args['min-brightness'] * brightest;
     const ok = !judged || (Math.abs(encoding) <= args.tolerance && (physical === null || Math.abs(physical) <= args.tolerance) &&
                            s.largest_step <= args.step);
-    if (!ok) ++failed;
+    // A directional bake: the normal-mapped shading against albedo x lightmap x the factor.
+    const directional = s.directional ? s.directional.median_ratio - 1 : null;
+    const directional_ok = directional === null || Math.abs(directional) <= 0.01;
+    if (!ok || !directional_ok) ++failed;
     lines.push(`  ${ok ? (judged ? 'ok  ' : 'dark') : 'FAIL'} ${s.name.padEnd(28)} texels ${String(s.texels).padStart(7)}` +
                `  shown ${s.shown_median.toPrecision(4).padStart(9)}  vs EXR ${(100 * encoding).toFixed(2).padStart(6)} %` +
                (physical === null ? '' : `  material vs albedo x H/pi ${(100 * physical).toFixed(2).padStart(6)} %`) +
-               `  step ${(100 * s.largest_step).toFixed(2)} %`);
+               `  step ${(100 * s.largest_step).toFixed(2)} %` +
+               (directional === null ? '' : `  tilted 20 deg vs factor ${(100 * directional).toFixed(2)} %${directional_ok ? '' : ' FAIL'}`));
+  }
+  if ((args['bake-args'] ?? '').includes('--directional') && result.engine === 'three.js' &&
+      !surfaces.some((s) => s.directional)) {
+    ++failed;
+    lines.push('  FAIL a directional bake, but no surface was shaded with its directions');
   }
   // A tiny primitive may cover no texel centre; most must.
   const undrawn = surfaces.filter((s) => !(s.texels > 0)).length;

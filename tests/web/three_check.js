@@ -6,10 +6,12 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
-import { RadbakeLightmapPlugin } from '/examples/web/three_lightmap_plugin.js';
-import { loadCodes, loadExr, surfaceReport } from './check_common.js';
+import { RadbakeLightmapPlugin, radbakeDirectionsOf, shadeWithDirections } from '/examples/web/three_lightmap_plugin.js';
+import { loadCodes, loadExr, median, surfaceReport } from './check_common.js';
 
-function lightmapSpace(material) {
+// A copy of `material` drawn in lightmap space (with its directional shading, which a clone
+// loses); `normal`, when given, replaces the shading normal (world space = view space here).
+function lightmapSpace(material, normal = null, surfaceNormal = null) {
   const copy = material.clone();
   copy.side = THREE.DoubleSide; // charts may be mirrored in the atlas
   copy.onBeforeCompile = (shader) => {
@@ -17,8 +19,56 @@ function lightmapSpace(material) {
       '#include <project_vertex>',
       '#include <project_vertex>\n\tgl_Position = vec4( vLightMapUv * 2.0 - 1.0, 0.0, 1.0 );');
   };
-  copy.customProgramCacheKey = () => 'radbake-lightmap-space';
+  copy.customProgramCacheKey = () => 'radbake-lightmap-space' + (normal ? normal.toArray().join(',') : '');
+  const directions = radbakeDirectionsOf.get(material);
+  if (directions) shadeWithDirections(copy, directions);
+  if (normal) {
+    const previous = copy.onBeforeCompile;
+    copy.onBeforeCompile = (shader, renderer) => {
+      previous.call(copy, shader, renderer);
+      shader.fragmentShader = shader.fragmentShader.replace('#include <normal_fragment_maps>',
+        // Both normals set: a chart mirrored in the atlas draws back-facing, which flips them.
+        `#include <normal_fragment_maps>\n\tnormal = normalize( vec3( ${normal.x}, ${normal.y}, ${normal.z} ) );\n` +
+        `\tnonPerturbedNormal = vec3( ${surfaceNormal.x}, ${surfaceNormal.y}, ${surfaceNormal.z} );`);
+    };
+  }
   return copy;
+}
+
+// The one normal of a flat primitive (world space), or null.
+function flatNormal(geometry) {
+  const normals = geometry.attributes.normal;
+  if (!normals) return null;
+  const first = new THREE.Vector3().fromBufferAttribute(normals, 0);
+  for (let i = 1; i < normals.count; ++i)
+    if (new THREE.Vector3().fromBufferAttribute(normals, i).dot(first) < 0.9999) return null;
+  return first.normalize();
+}
+
+// A directional bake: a flat primitive drawn with its normal tilted 20 degrees against
+// albedo x lightmap x max(0, 1 + g . (n - n0)) with g from the direction EXR, texel by texel.
+function directionalFigure(renderer, mesh, material, exr, directions, width, height, materialDef) {
+  const n0 = flatNormal(mesh.geometry);
+  if (!n0 || !directions) return null;
+  const side = new THREE.Vector3().crossVectors(n0, Math.abs(n0.y) < 0.9 ? new THREE.Vector3(0, 1, 0) : new THREE.Vector3(1, 0, 0)).normalize();
+  const tilt = (20 * Math.PI) / 180;
+  const n = n0.clone().multiplyScalar(Math.cos(tilt)).addScaledVector(side, Math.sin(tilt));
+  const shown = drawInLightmapSpace(renderer, mesh.geometry, lightmapSpace(material, n, n0), width, height);
+  const flat = drawInLightmapSpace(renderer, mesh.geometry, lightmapSpace(material), width, height);
+  const ratios = [];
+  const d = n.clone().sub(n0);
+  for (let y = 0; y < height; ++y)
+    for (let x = 0; x < width; ++x) {
+      const i = 4 * (y * width + x);
+      if (!(shown[i + 3] > 0.5) || !(flat[i + 1] > 0)) continue;
+      const [gx, gy, gz] = directions.at(x, y);
+      const factor = Math.max(0, 1 + gx * d.x + gy * d.y + gz * d.z);
+      const emission = (materialDef.emissiveFactor ?? [0, 0, 0])[1] *
+        (materialDef.extensions?.KHR_materials_emissive_strength?.emissiveStrength ?? 1);
+      if (emission > 0) return null;
+      ratios.push(shown[i + 1] / (flat[i + 1] * factor));
+    }
+  return ratios.length ? { texels: ratios.length, median_ratio: median(ratios) } : null;
 }
 
 function drawInLightmapSpace(renderer, geometry, material, width, height) {
@@ -79,7 +129,13 @@ export async function checkThree(bakeUrl, glbName) {
     };
     const linear = renderExact(THREE.LinearFilter), nearest = renderExact(THREE.NearestFilter);
     exact.dispose();
-    surfaces.push(surfaceReport(mesh.name || material.name, materialDef, exr, shown, linear, nearest, codes));
+    const report = surfaceReport(mesh.name || material.name, materialDef, exr, shown, linear, nearest, codes);
+    const directionFile = materialDef.extras.radbake_lightmap_direction;
+    if (directionFile) {
+      if (!exrs.has(directionFile)) exrs.set(directionFile, { exr: await loadExr(`${bakeUrl}/${directionFile}`, false) });
+      report.directional = directionalFigure(renderer, mesh, material, exr, exrs.get(directionFile).exr, width, height, materialDef);
+    }
+    surfaces.push(report);
   }
   renderer.dispose();
   return { engine: 'three.js', version: THREE.REVISION, surfaces };
