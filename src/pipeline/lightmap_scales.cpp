@@ -4,39 +4,25 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
-#include <sstream>
 
-#include "core/regular_file.h"
+#include "pipeline/side_file.h"
 #include "scene/two_sided.h"
 
 namespace radbake {
-namespace {
-
-std::string trim(const std::string& s) {
-    const size_t begin = s.find_first_not_of(" \t\r");
-    if (begin == std::string::npos) return {};
-    return s.substr(begin, s.find_last_not_of(" \t\r") - begin + 1);
-}
-
-}  // namespace
 
 std::optional<std::vector<LightmapScaleRule>> parseLightmapScales(const std::string& text, const std::string& path,
                                                                   Diagnostics& diagnostics) {
     std::vector<LightmapScaleRule> rules;
     std::map<std::string, int> first_line;
     const int errors_before = diagnostics.errorCount();
-    std::istringstream in(text);
-    std::string raw;
-    for (int line = 1; std::getline(in, raw); ++line) {
-        const std::string content = trim(raw.substr(0, raw.find('#')));
-        if (content.empty()) continue;
+    forEachSideFileLine(text, [&](int line, const std::string& content, const std::string& raw) {
         const size_t split = content.find_last_of(" \t");
         const SourceLocation where{path, line, 1};
         if (split == std::string::npos) {
             diagnostics.error(where, "expected 'NAME SCALE' (a mesh or material name, then its texel-density scale)");
-            continue;
+            return;
         }
-        LightmapScaleRule rule{trim(content.substr(0, split)), 0.0, where};
+        LightmapScaleRule rule{trimSpaces(content.substr(0, split)), 0.0, where};
         const std::string number = content.substr(split + 1);
         char* end = nullptr;
         errno = 0;
@@ -44,27 +30,22 @@ std::optional<std::vector<LightmapScaleRule>> parseLightmapScales(const std::str
         if (end != number.c_str() + number.size() || errno != 0 || !std::isfinite(rule.scale) || !(rule.scale > 0.0)) {
             diagnostics.error({path, line, static_cast<int>(raw.find(number)) + 1},
                               "lightmap scale '" + number + "' of '" + rule.name + "' is not a positive number");
-            continue;
+            return;
         }
         if (const auto [it, added] = first_line.emplace(rule.name, line); !added) {
             diagnostics.error(where, "'" + rule.name + "' is given a lightmap scale twice (first on line " +
                                          std::to_string(it->second) + ")");
-            continue;
+            return;
         }
         rules.push_back(std::move(rule));
-    }
+    });
     if (diagnostics.errorCount() > errors_before) return std::nullopt;
     return rules;
 }
 
 std::optional<std::vector<LightmapScaleRule>> readLightmapScales(const std::string& path, Diagnostics& diagnostics) {
-    // A folder would read as nothing, a FIFO block the bake.
-    std::string why;
-    const std::optional<std::string> text = readRegularFile(path, why);
-    if (!text) {
-        diagnostics.error({path, 0, 0}, "cannot open lightmap scale file: " + why);
-        return std::nullopt;
-    }
+    const std::optional<std::string> text = readSideFile(path, "lightmap scale file", diagnostics);
+    if (!text) return std::nullopt;
     return parseLightmapScales(*text, path, diagnostics);
 }
 

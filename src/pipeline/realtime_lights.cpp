@@ -1,49 +1,31 @@
 #include "pipeline/realtime_lights.h"
 
 #include <map>
-#include <sstream>
 
-#include "core/regular_file.h"
+#include "pipeline/side_file.h"
 
 namespace radbake {
-namespace {
-
-std::string trim(const std::string& s) {
-    const size_t begin = s.find_first_not_of(" \t\r");
-    if (begin == std::string::npos) return {};
-    return s.substr(begin, s.find_last_not_of(" \t\r") - begin + 1);
-}
-
-}  // namespace
 
 std::optional<std::vector<RealtimeLightName>> parseRealtimeLights(const std::string& text, const std::string& path,
                                                                   Diagnostics& diagnostics) {
     std::vector<RealtimeLightName> names;
     std::map<std::string, int> first_line;
     const int errors_before = diagnostics.errorCount();
-    std::istringstream in(text);
-    std::string raw;
-    for (int line = 1; std::getline(in, raw); ++line) {
-        const std::string name = trim(raw.substr(0, raw.find('#')));
-        if (name.empty()) continue;
+    forEachSideFileLine(text, [&](int line, const std::string& name, const std::string&) {
         const SourceLocation where{path, line, 1};
         if (const auto [it, added] = first_line.emplace(name, line); !added) {
             diagnostics.error(where, "'" + name + "' is named twice (first on line " + std::to_string(it->second) + ")");
-            continue;
+            return;
         }
         names.push_back({name, where});
-    }
+    });
     if (diagnostics.errorCount() > errors_before) return std::nullopt;
     return names;
 }
 
 std::optional<std::vector<RealtimeLightName>> readRealtimeLights(const std::string& path, Diagnostics& diagnostics) {
-    std::string why;
-    const std::optional<std::string> text = readRegularFile(path, why);
-    if (!text) {
-        diagnostics.error({path, 0, 0}, "cannot open real-time light file: " + why);
-        return std::nullopt;
-    }
+    const std::optional<std::string> text = readSideFile(path, "real-time light file", diagnostics);
+    if (!text) return std::nullopt;
     return parseRealtimeLights(*text, path, diagnostics);
 }
 

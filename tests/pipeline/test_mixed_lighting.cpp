@@ -213,3 +213,16 @@ TEST_CASE("--directional: the irradiance rebuilt for normals tilted up to 30 deg
     CHECK(points > 300);
     CHECK(worst_flat > 0.15);  // the normals matter here: without the directions the error is large
 }
+
+TEST_CASE("--realtime-lights file: names a line, comments and blanks skipped, a name given twice is an error at its line") {
+    Diagnostics diagnostics;
+    const auto names = parseRealtimeLights("# drawn by the engine\n\n  Lamp 1  # the desk's\nsun\n", "rt.txt", diagnostics);
+    REQUIRE(names);
+    REQUIRE(names->size() == 2);
+    CHECK((*names)[0].name == "Lamp 1");
+    CHECK((*names)[0].location.line == 3);
+    CHECK((*names)[1].name == "sun");
+    CHECK_FALSE(parseRealtimeLights("sun\nLamp\nsun\n", "rt.txt", diagnostics));
+    REQUIRE(diagnostics.errorCount() == 1);
+    CHECK(formatDiagnostic(diagnostics.all().back()) == "rt.txt:3:1: error: 'sun' is named twice (first on line 1)");
+}

@@ -15,7 +15,7 @@ import { MaterialPluginBase } from '@babylonjs/core/Materials/materialPluginBase
 import { LoadAssetContainerAsync } from '@babylonjs/core/Loading/sceneLoader.js';
 import { registerBuiltInLoaders } from '@babylonjs/loaders/dynamic.js';
 import { registerRadbakeLightmaps } from '/examples/web/babylon_lightmap_extension.js';
-import { loadCodes, loadExr, surfaceReport } from './check_common.js';
+import { atlasOf, surfaceReport } from './check_common.js';
 
 class LightmapSpace extends MaterialPluginBase {
   constructor(material) {
@@ -77,11 +77,7 @@ export async function checkBabylon(bakeUrl, glbName, json) {
     const material = mesh.material;
     if (!material || !material.lightmapTexture || !mesh.getTotalVertices()) continue;
     const materialDef = json.materials[materialIndexOf(material)];
-    const exrFile = materialDef.extras.radbake_lightmap;
-    if (!exrs.has(exrFile))
-      exrs.set(exrFile, { exr: await loadExr(`${bakeUrl}/${exrFile}`),
-                          codes: await loadCodes(`${bakeUrl}/${materialDef.extras.radbake_lightmap_png}`) });
-    const { exr, codes } = exrs.get(exrFile);
+    const { exr, codes } = await atlasOf(bakeUrl, materialDef, exrs);
     const { width, height } = exr;
     const drawn = lightmapSpace(material, `${material.name} (lightmap space)`);
     const shown = await drawInLightmapSpace(scene, mesh, drawn, width, height);

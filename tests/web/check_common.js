@@ -100,6 +100,15 @@ export function surfaceReport(name, materialDef, exr, shown, linear, nearest, co
            physical_worst_texel: physical ? physical.worst_texel : null };
 }
 
+// A material's atlas: its EXR (the truth) and its PNG's bytes, each loaded once into `cache`.
+export async function atlasOf(bakeUrl, materialDef, cache) {
+  const file = materialDef.extras.radbake_lightmap;
+  if (!cache.has(file))
+    cache.set(file, { exr: await loadExr(`${bakeUrl}/${file}`),
+                      codes: await loadCodes(`${bakeUrl}/${materialDef.extras.radbake_lightmap_png}`) });
+  return cache.get(file);
+}
+
 // The lightmap PNG's RGBA bytes, as the loaders read them.
 export async function loadCodes(url) {
   return (await readPngRgba8(await (await fetch(url)).arrayBuffer())).rgba;

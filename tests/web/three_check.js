@@ -7,7 +7,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { RadbakeLightmapPlugin, radbakeDirectionsOf, shadeWithDirections } from '/examples/web/three_lightmap_plugin.js';
-import { loadCodes, loadExr, median, surfaceReport } from './check_common.js';
+import { atlasOf, loadExr, median, surfaceReport } from './check_common.js';
 
 // A copy of `material` drawn in lightmap space (with its directional shading, which a clone
 // loses); `normal`, when given, replaces the shading normal (world space = view space here).
@@ -105,11 +105,7 @@ export async function checkThree(bakeUrl, glbName) {
     if (!material.lightMap) continue;
     const association = gltf.parser.associations.get(material);
     const materialDef = json.materials[association.materials];
-    const exrFile = materialDef.extras.radbake_lightmap;
-    if (!exrs.has(exrFile))
-      exrs.set(exrFile, { exr: await loadExr(`${bakeUrl}/${exrFile}`),
-                          codes: await loadCodes(`${bakeUrl}/${materialDef.extras.radbake_lightmap_png}`) });
-    const { exr, codes } = exrs.get(exrFile);
+    const { exr, codes } = await atlasOf(bakeUrl, materialDef, exrs);
     const { width, height } = exr;
     const shown = drawInLightmapSpace(renderer, mesh.geometry, lightmapSpace(material), width, height);
     // What the material shows with the EXR's exact texels as its light map, filtered as
