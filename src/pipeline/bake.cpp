@@ -173,6 +173,10 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     if (!options.lightmaps.enabled && !options.lightmaps.scales.empty())
         diagnostics.warning(options.lightmaps.scales.front().location,
                             "lightmap scales have no effect: the bake has no lightmaps");
+    if (!options.lightmaps.enabled && options.lightmaps.directional)
+        diagnostics.warning({scene.source_path, 0, 0}, "--directional has no effect: the bake has no lightmaps");
+    if (!options.lightmaps.enabled && options.lightmaps.quantity == LightmapQuantity::Radiance)
+        diagnostics.warning({scene.source_path, 0, 0}, "--lightmap-quantity has no effect: the bake has no lightmaps");
     // Before the solve: a lightmap budget error should not cost a solve first.
     std::optional<LightmapCharts> charts;
     if (options.lightmaps.enabled) {

@@ -344,4 +344,10 @@ TEST_CASE("--realtime-lights writes each atlas's shadowmask beside it, named in 
     CHECK(refused.output.find("wrong.txt:2:1: error: no light is named 'Lamp2' (named lights: 'Lamp', 'Fill')") !=
           std::string::npos);
     CHECK_FALSE(fs::exists(tmp.path / "b"));
+    // Lightmap-only options without lightmaps say so.
+    const RunResult plain = runRadbake("bake " + quote(tmp.path / "lit.wrl") + " -q --quality draft --no-lightmaps --directional " +
+                                       "--lightmap-quantity radiance -o " + quote(tmp.path / "c"));
+    CHECK(plain.exit_code == 0);
+    CHECK(plain.output.find("warning: --directional has no effect: the bake has no lightmaps") != std::string::npos);
+    CHECK(plain.output.find("warning: --lightmap-quantity has no effect: the bake has no lightmaps") != std::string::npos);
 }
