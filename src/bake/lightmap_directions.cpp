@@ -57,8 +57,8 @@ LightmapDirections bakeLightmapDirections(const Solution& solution, const Readou
                 const double e0 = luminance(read(chart.mesh, face->triangle, p, n0));
                 if (!(e0 > 0.0)) continue;
                 // b minimising the relative error of e0 + b . (n - n0) at eight normals 30 degrees
-                // round n0 (exact at n0): the light near a tilted horizon bends E(n) away from
-                // linear, and a fit exact at four tilts missed the others by up to 10 %.
+                // round n0 (exact at n0): light near a tilted horizon bends E(n) away from linear,
+                // so a fit exact at a few tilts misses the others.
                 glm::dmat3 normal_matrix(0.0);
                 DVec3 right(0.0);
                 for (int k = 0; k < kDirectionSamples; ++k) {

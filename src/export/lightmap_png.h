@@ -8,9 +8,9 @@
 //     value = 0                            for alpha = 0
 //     value = code * 2^(alpha - 136)       for alpha >= 1   (code = the channel's byte)
 // so the texel's brightest channel keeps its value within 0.4 % (its code is 128 or more)
-// whatever the atlas's range. Browsers decode any PNG to 8 bits; a single linear or log
-// scale cannot hold both a lamp's hot spot and a room's shadows in 8 bits (the house: a
-// scale of 15.9 left ordinary walls a few codes). No sRGB curve; the alpha is not coverage.
+// whatever the atlas's range. Browsers decode any PNG to 8 bits, and a single linear or log
+// scale cannot hold both a lamp's hot spot and a room's shadows in 8 bits (docs/gltf.md).
+// No sRGB curve; the alpha is not coverage.
 // Loaders decode the codes to linear floats before sampling (examples/web); the EXR keeps
 // every value exactly.
 #include <array>
