@@ -5,7 +5,7 @@
 #include <cmath>
 #include <optional>
 
-#include "bake/chart_dilation.h"
+#include "bake/chart_texels.h"
 #include "geometry/polygon.h"
 #include "readout/evaluate_probe.h"
 #include "readout/reconstruct.h"

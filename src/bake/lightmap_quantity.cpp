@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "bake/chart_texels.h"
 
 namespace radbake {
 namespace {
@@ -14,20 +15,18 @@ Vec3 reflectanceOf(const Scene& scene, uint32_t mesh_index, uint32_t triangle) {
     return scene.materials[mesh.material].reflectance;
 }
 
-// Squared distance from `p` to the face's polygon, 0 inside it.
+// Squared distance from `p` to the face's polygon, 0 on it.
 double squaredDistance(const ChartFace& face, const DVec2& p) {
+    if (onFace(face, p)) return 0.0;
     const std::vector<DVec2>& poly = face.p_plane;
-    bool inside = false;
     double best = std::numeric_limits<double>::infinity();
     for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-        const DVec2 a = poly[j], b = poly[i];
-        if ((b.y > p.y) != (a.y > p.y) && p.x < (a.x - b.x) * (p.y - b.y) / (a.y - b.y) + b.x) inside = !inside;
-        const DVec2 ab = b - a;
+        const DVec2 a = poly[j], ab = poly[i] - poly[j];
         const double t = glm::dot(ab, ab) > 0.0 ? std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0) : 0.0;
         const DVec2 d = p - (a + t * ab);
         best = std::min(best, glm::dot(d, d));
     }
-    return inside ? 0.0 : best;
+    return best;
 }
 
 }  // namespace
@@ -48,7 +47,7 @@ void toReflectedRadiance(const Scene& scene, int padding, Lightmaps& lightmaps) 
             for (int tx = std::max(0, chart.x - padding); tx < std::min(image.width, chart.x + chart.width + padding); ++tx) {
                 size_t face = 0;
                 if (!uniform) {
-                    const DVec2 centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
+                    const DVec2 centre = texelCentre(chart, tx, ty);
                     double nearest = std::numeric_limits<double>::infinity();
                     for (size_t f = 0; f < chart.faces.size() && nearest > 0.0; ++f)
                         if (const double d = squaredDistance(chart.faces[f], centre); d < nearest) {

@@ -11,6 +11,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "bake/chart_texels.h"
 
 namespace radbake {
 namespace {
@@ -198,17 +199,8 @@ struct Unknowns {
 };
 
 bool centreOnGeometry(const LightmapChart& chart, const LightmapImage& image, size_t pixel) {
-    const int x = static_cast<int>(pixel % image.width), y = static_cast<int>(pixel / image.width);
-    const DVec2 p = chart.min_plane + (DVec2(x - chart.x, y - chart.y) + 0.5) / chart.texels_per_metre;
-    for (const ChartFace& face : chart.faces) {
-        bool inside = true;
-        for (size_t k = 0; k < face.p_plane.size() && inside; ++k) {
-            const DVec2 e = face.p_plane[(k + 1) % face.p_plane.size()] - face.p_plane[k], d = p - face.p_plane[k];
-            inside = e.x * d.y - e.y * d.x >= 0.0;
-        }
-        if (inside) return true;
-    }
-    return false;
+    DVec2 centre;
+    return faceAtTexel(chart, static_cast<int>(pixel % image.width), static_cast<int>(pixel / image.width), centre) != nullptr;
 }
 
 // The four bilinear taps of a lookup, clamped to the image like bilinearLookup.

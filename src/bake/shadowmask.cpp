@@ -5,7 +5,7 @@
 #include <cmath>
 #include <set>
 
-#include "bake/chart_dilation.h"
+#include "bake/chart_texels.h"
 #include "radiosity/punctual_lights.h"
 #include "readout/gather.h"
 

@@ -1,8 +1,6 @@
 #pragma once
-// Texels of a chart's padded rectangle off its geometry take a covered 4-neighbour's value, ring
-// by ring, so bilinear filtering at the chart's edge reads the chart's own values. For per-texel
-// data beside the lightmap (the shadowmask, the directions); `covered` (atlas width x height)
-// marks the texels with values and is updated; copy(to, from) copies one texel's value.
+// A chart's texels: which face holds a texel's centre, and the dilation of per-texel data beside
+// the lightmap (the shadowmask, the directions) into the chart's padding.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -11,6 +9,10 @@
 
 namespace radbake {
 
+// Texels of a chart's padded rectangle off its geometry take a covered 4-neighbour's value, ring
+// by ring, so bilinear filtering at the chart's edge reads the chart's own values. `covered`
+// (atlas width x height) marks the texels with values and is updated; copy(to, from) copies one
+// texel's value.
 template <class Copy>
 void dilateChartTexels(const LightmapChart& chart, int padding, int width, int height, std::vector<uint8_t>& covered,
                        Copy&& copy) {
@@ -34,22 +36,26 @@ void dilateChartTexels(const LightmapChart& chart, int padding, int width, int h
     }
 }
 
-// Whether `p` lies inside the polygon (even-odd rule).
-inline bool insidePolygon(const std::vector<DVec2>& polygon, const DVec2& p) {
-    bool inside = false;
-    for (size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++)
-        if ((polygon[i].y > p.y) != (polygon[j].y > p.y) &&
-            p.x < (polygon[j].x - polygon[i].x) * (p.y - polygon[i].y) / (polygon[j].y - polygon[i].y) + polygon[i].x)
-            inside = !inside;
-    return inside;
+// The centre of atlas texel (tx, ty) in the chart's plane.
+inline DVec2 texelCentre(const LightmapChart& chart, int tx, int ty) {
+    return chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
 }
 
-// The chart face whose polygon holds the centre of atlas texel (tx, ty) and that centre in the
-// chart's plane; null when the centre is off the chart's geometry.
+// Whether `p` lies on the face (its polygon is convex and counter-clockwise; the outline counts).
+inline bool onFace(const ChartFace& face, const DVec2& p) {
+    for (size_t k = 0; k < face.p_plane.size(); ++k) {
+        const DVec2 e = face.p_plane[(k + 1) % face.p_plane.size()] - face.p_plane[k], d = p - face.p_plane[k];
+        if (e.x * d.y - e.y * d.x < 0.0) return false;
+    }
+    return true;
+}
+
+// The chart face holding the centre of atlas texel (tx, ty), and that centre in the chart's
+// plane; null when the centre is off the chart's geometry.
 inline const ChartFace* faceAtTexel(const LightmapChart& chart, int tx, int ty, DVec2& centre) {
-    centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
+    centre = texelCentre(chart, tx, ty);
     for (const ChartFace& face : chart.faces)
-        if (insidePolygon(face.p_plane, centre)) return &face;
+        if (onFace(face, centre)) return &face;
     return nullptr;
 }
 
