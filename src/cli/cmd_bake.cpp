@@ -303,7 +303,8 @@ void addBakeCommand(CLI::App& app, int& result) {
                   "Directional lightmaps: also lightmaps/<name>_<k>_direction.exr, how each texel's light changes "
                   "with the normal (for normal maps: E(n) = lightmap x max(0, 1 + g . (n - n0))); nine reads a texel");
     cmd->add_option("--realtime-lights", args->realtime_lights,
-                    "Mixed lighting: a file of light names, one a line, whose direct light the engine draws; "
+                    "Mixed lighting: a file of names of lights and emissive meshes, one a line, whose direct light "
+                    "the engine draws; "
                     "their light still bounces, but no vertex, texel or probe holds their direct light, and "
                     "each atlas gets a shadowmask of their visibility")
         ->check(nonEmptyPath());

@@ -15,6 +15,7 @@
 #include "geometry/parts.h"
 #include "io/import.h"
 #include "pipeline/solution_cache.h"
+#include "readout/realtime_emission.h"
 #include "radiosity/solver.h"
 #include "scene/two_sided.h"
 
@@ -121,7 +122,7 @@ void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& opti
     report.hidden_texels = baked.lightmaps.hidden_texels;
     report.texel_tolerance = options.texel_tolerance;
     report.occupancy = layout.occupancy;
-    report.realtime_lights = baked.shadowmask.lights;
+    report.realtime_lights = baked.shadowmask.lights.size();
     report.shadowmask_lights_without_channel = baked.shadowmask.lights_without_channel;
     report.shadowmask_texels_over_channels = baked.shadowmask.texels_over_channels;
 }
@@ -210,6 +211,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     out.report.options = options.solver;
     out.report.solve = out.solution->stats;
 
+    const RealtimeEmissionLeftOut realtime_emission(*out.solution);  // after the solution is saved
     beginPhase("vertices");
     // --texel-tolerance 0 (the reference preset) reads every vertex and texel with the exhaustive gather.
     ReadoutOptions readout = options.readout;
@@ -241,9 +243,8 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
             for (size_t k = 0; k < baked.directions.images.size(); ++k)
                 baked.files.direction_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_direction.exr");
         }
-        for (size_t l = 0; l < scene.lights.size(); ++l)
-            if (baked.shadowmask.channel[l] >= 0)
-                baked.files.shadowmask_channels.emplace_back(scene.lights[l].name, baked.shadowmask.channel[l]);
+        for (const ShadowmaskLight& light : baked.shadowmask.lights)
+            if (light.channel >= 0) baked.files.shadowmask_channels.emplace_back(light.name, light.channel);
         baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
         for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
             baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");

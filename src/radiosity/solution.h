@@ -120,13 +120,13 @@ struct Solution {
     Solution& operator=(Solution&&) noexcept;
 };
 
-// Whether any light is in the scene: an element emits (its emission holds the punctual
-// lights' and the sky's reflected direct light too) or a punctual light or the sky can reach a probe. Without it every
-// reading is 0, and the read-out skips its gather.
+// Whether any light is in the solved scene: an element gives light (its radiosity holds its
+// emission, with the punctual lights' and the sky's reflected direct light) or a punctual light
+// or the sky can reach a probe. Without it every reading is 0, and the read-out skips its gather.
 inline bool carriesLight(const Solution& s) {
     if (s.scene != nullptr && (!s.scene->lights.empty() || s.scene->sky.shines())) return true;
     for (const Element& e : s.elements)
-        if (e.emission.x > 0.0 || e.emission.y > 0.0 || e.emission.z > 0.0) return true;
+        if (e.radiosity.x > 0.0 || e.radiosity.y > 0.0 || e.radiosity.z > 0.0) return true;
     return false;
 }
 

@@ -70,6 +70,9 @@ struct Mesh {
     std::vector<uint32_t> triangle_polygon;
     uint32_t polygon_count = 0;
     uint32_t material = 0;               // index into Scene::materials
+    // Mixed lighting (--realtime-lights): the name under which the engine draws this emissive
+    // mesh's own light; the read-out then leaves that light's direct part out. Empty: baked.
+    std::string realtime_light;
     // False: two-sided, lit on both sides, each with its own light (VRML `solid FALSE`, a
     // VRML 1.0 face set not SOLID with a known ordering, a material marked double-sided).
     bool solid = true;

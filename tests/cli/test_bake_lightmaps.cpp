@@ -321,9 +321,10 @@ TEST_CASE("--realtime-lights writes each atlas's shadowmask beside it, named in 
               "DEF Lamp PointLight { location 0 1 0 }\n"
               "DEF Fill PointLight { location 0.5 1 0 intensity 0.5 }\n"
               "Shape { appearance Appearance { material Material { diffuseColor 0.5 0.5 0.5 } }\n"
-              "  geometry IndexedFaceSet { coord Coordinate { point [-1 0 -1, -1 0 1, 1 0 1, 1 0 -1] }\n"
+              "  geometry DEF Floor IndexedFaceSet { coord Coordinate { point [-1 0 -1, -1 0 1, 1 0 1, 1 0 -1] }\n"
               "    coordIndex [0 1 2 3 -1] } }\n");
     writeText(tmp.path / "realtime.txt", "# drawn by the engine\nLamp\n");
+    writeText(tmp.path / "dark.txt", "Floor\n");
     writeText(tmp.path / "wrong.txt", "Lamp\nLamp2\n");
     const fs::path out = tmp.path / "out";
     const std::string bake = "bake " + quote(tmp.path / "lit.wrl") + " -q --quality draft --realtime-lights ";
@@ -341,8 +342,12 @@ TEST_CASE("--realtime-lights writes each atlas's shadowmask beside it, named in 
             CHECK(material.at("extras").at("radbake_shadowmask").get<std::string>() == "lightmaps/lit_0_shadowmask.png");
     const RunResult refused = runRadbake(bake + quote(tmp.path / "wrong.txt") + " -o " + quote(tmp.path / "b"));
     CHECK(refused.exit_code == 1);
-    CHECK(refused.output.find("wrong.txt:2:1: error: no light is named 'Lamp2' (named lights: 'Lamp', 'Fill')") !=
-          std::string::npos);
+    CHECK(refused.output.find("wrong.txt:2:1: error: no light or emissive mesh is named 'Lamp2' (named lights: 'Lamp', "
+                              "'Fill')") != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp.path / "b"));
+    const RunResult dark = runRadbake(bake + quote(tmp.path / "dark.txt") + " -o " + quote(tmp.path / "b"));
+    CHECK(dark.exit_code == 1);
+    CHECK(dark.output.find("dark.txt:1:1: error: 'Floor' is a mesh that emits no light") != std::string::npos);
     CHECK_FALSE(fs::exists(tmp.path / "b"));
     // Lightmap-only options without lightmaps say so.
     const RunResult plain = runRadbake("bake " + quote(tmp.path / "lit.wrl") + " -q --quality draft --no-lightmaps --directional " +

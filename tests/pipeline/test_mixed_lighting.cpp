@@ -32,6 +32,29 @@ Bake bakeMixed(const TempDir& dir, const std::string& body, const DaylightOption
     return baked;
 }
 
+// A black quad emitting radiance `radiance`, its geometry named `name` (the name
+// --realtime-lights gives an emissive mesh by).
+std::string emitter(const std::string& name, const std::vector<DVec3>& corners, double radiance) {
+    std::string points;
+    for (const DVec3& c : corners)
+        points += std::to_string(c.x) + " " + std::to_string(c.y) + " " + std::to_string(c.z) + ", ";
+    const std::string l = std::to_string(radiance);
+    return "Shape { appearance Appearance { material Material { diffuseColor 0 0 0 emissiveColor " + l + " " + l + " " +
+           l + " } } geometry DEF " + name + " IndexedFaceSet { coord Coordinate { point [ " + points +
+           "] } coordIndex [ 0 1 2 3 -1 ] } }\n";
+}
+
+// Lambert's closed form: the form factor from a point (normal n) to a polygon wholly above its
+// horizon, (1 / 2 pi) sum over edges of the angle they subtend times its plane's cosine to n.
+double pointPolygonFormFactor(const DVec3& x, const DVec3& n, const std::vector<DVec3>& polygon) {
+    double sum = 0.0;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const DVec3 a = glm::normalize(polygon[i] - x), b = glm::normalize(polygon[(i + 1) % polygon.size()] - x);
+        sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(n, glm::normalize(glm::cross(a, b)));
+    }
+    return std::abs(sum) / (2.0 * kPi);
+}
+
 }  // namespace
 
 // A floor and a white wall lit by a lamp the engine draws: the bake keeps what the wall
@@ -72,9 +95,101 @@ TEST_CASE("--realtime-lights: a point light's direct light leaves the bake, its 
     for (const float v : mixed.lightmaps->lightmaps.images[0].rgb) sum_mixed += v;
     CHECK(sum_mixed < 0.5 * sum_all);
     CHECK(sum_mixed > 0.0);
-    CHECK(mixed.lightmaps->shadowmask.lights == 1);
+    CHECK(mixed.lightmaps->shadowmask.lights.size() == 1);
     CHECK(all.lightmaps->shadowmask.images.empty());
 }
+
+// The same with a lamp that is an emissive panel (a mesh, named by its geometry's DEF name): its
+// direct light is pi L times Lambert's point-to-polygon form factor; what is left of
+// reference_mc's total is the bounce the bake keeps.
+TEST_CASE("--realtime-lights: an emissive mesh's direct light leaves the bake, its bounce stays (against reference_mc)") {
+    TempDir dir;
+    const std::vector<DVec3> panel = {{-0.25, 1, -0.25}, {0.25, 1, -0.25}, {0.25, 1, 0.25}, {-0.25, 1, 0.25}};
+    const double radiance = 10.0;
+    const std::string body = emitter("Panel", panel, radiance) +
+                             quad({{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, 0.5) +
+                             quad({{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, 0.8);
+    const std::vector<Probe> probes = {daylight_test::probe({0, 0, 0.5}, {0, 1, 0}), daylight_test::probe({0.5, 0, -0.5}, {0, 1, 0}),
+                                       daylight_test::probe({-0.5, 0, 0}, {0, 1, 0})};
+    const Bake all = bakeMixed(dir, body, {}, {}, probes, 16);
+    const Bake mixed = bakeMixed(dir, body, {}, {"Panel"}, probes, 16);
+    reference::McOptions mc;
+    mc.samples = 65536;
+    mc.threads = 2;
+    std::vector<reference::McProbe> at;
+    for (const Probe& p : probes) at.push_back({p.position, p.normal});
+    const std::vector<reference::McProbeResult> total = reference::estimateProbes(reference::McBvh(*all.scene), at, mc);
+    for (size_t i = 0; i < probes.size(); ++i) {
+        CAPTURE(probes[i].position);
+        const double direct = kPi * radiance * pointPolygonFormFactor(probes[i].position, probes[i].normal, panel);
+        const double bounce = total[i].irradiance.x - direct;
+        const double baked = mixed.probe_irradiance[i].x;
+        MESSAGE("bounce only " << baked << ", reference total " << total[i].irradiance.x << " +- "
+                               << total[i].standard_error.x << " less the direct " << direct);
+        REQUIRE(bounce > 0.02);
+        CHECK(total[i].standard_error.x < 0.1 * bounce);
+        CHECK(std::abs(baked - bounce) < 0.15 * bounce);  // with the panel: several times the bounce
+        CHECK(std::abs(all.probe_irradiance[i].x - baked - direct) < 0.01 * direct);
+    }
+    double sum_all = 0.0, sum_mixed = 0.0;
+    for (const float v : all.lightmaps->lightmaps.images[0].rgb) sum_all += v;
+    for (const float v : mixed.lightmaps->lightmaps.images[0].rgb) sum_mixed += v;
+    CHECK(sum_mixed < 0.5 * sum_all);
+    CHECK(sum_mixed > 0.0);
+    REQUIRE(mixed.lightmaps->shadowmask.lights.size() == 1);
+    CHECK(mixed.lightmaps->shadowmask.lights[0].name == "Panel");
+    CHECK(mixed.lightmaps->shadowmask.lights[0].channel == 0);
+}
+
+// A 1 x 1 m emissive panel 2 m over a floor, half of the floor under a plane 1 m up whose
+// straight edge runs along x = 0: from a floor point at x, the panel is seen where x' > -x (the
+// ray crosses the plane's height at their midpoint), so the mask holds the form factor of that
+// part of the panel over the whole one's (Lambert's formula both), 0.5 under the edge.
+TEST_CASE("the shadowmask of an emissive panel under a straight edge: the panel's visible share, 0.5 under the edge") {
+    TempDir dir;
+    const std::vector<DVec3> panel = {{-0.5, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5}, {-0.5, 2, 0.5}};
+    const std::string body = emitter("Panel", panel, 1.0) + quad({{-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}}, 0.5) +
+                             quad({{-3, 1, -3}, {-3, 1, 3}, {0, 1, 3}, {0, 1, -3}}, 0.0, true);
+    const Bake baked = bakeMixed(dir, body, {}, {"Panel"}, {}, 64);
+    const Shadowmask& mask = baked.lightmaps->shadowmask;
+    REQUIRE(mask.lights.size() == 1);
+    const LightmapLayout& layout = baked.lightmaps->lightmaps.layout;
+    size_t penumbra = 0, lit = 0, dark = 0;
+    double worst = 0.0;
+    for (const LightmapChart& chart : layout.charts) {
+        if (chart.mesh != 1) continue;  // the floor
+        for (int ty = chart.y; ty < chart.y + chart.height; ++ty)
+            for (int tx = chart.x; tx < chart.x + chart.width; ++tx) {
+                const DVec2 centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
+                const DVec3 p = chart.worldPoint(centre);
+                if (std::abs(p.x) > 1.5 || std::abs(p.z) > 1.5) continue;  // away from the floor's and the plane's ends
+                const DVec3 up(0, 1, 0);
+                const double seen_from = std::clamp(-p.x, -0.5, 0.5);
+                const double whole = pointPolygonFormFactor(p, up, panel);
+                const double expected =
+                    seen_from >= 0.5 ? 0.0
+                                     : pointPolygonFormFactor(p, up, {{seen_from, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5},
+                                                                       {seen_from, 2, 0.5}}) / whole;
+                const size_t atlas = static_cast<size_t>(chart.atlas);
+                const double got = mask.images[atlas][4 * (static_cast<size_t>(ty) * mask.widths[atlas] + tx)] / 255.0;
+                CAPTURE(p.x);
+                CAPTURE(p.z);
+                CAPTURE(got);
+                CAPTURE(expected);
+                CHECK(std::abs(got - expected) < 0.04);  // 16 x 16 samples over the panel
+                worst = std::max(worst, std::abs(got - expected));
+                if (std::abs(p.x) < 0.5 / chart.texels_per_metre + 1e-9) CHECK(got == doctest::Approx(0.5).epsilon(0.05));
+                penumbra += expected > 0.05 && expected < 0.95;
+                lit += expected == 1.0 && got == 1.0;
+                dark += expected == 0.0 && got == 0.0;
+            }
+    }
+    MESSAGE("worst " << worst << " over " << penumbra << " penumbra texels");
+    CHECK(penumbra >= 1000);
+    CHECK(lit > 1000);
+    CHECK(dark > 1000);
+}
+
 
 // The sun (a 5 degree disc) straight above a floor, half of it under a plane 1 m up whose
 // straight edge runs along x = 0: the shadowmask reads the visible share of the disc, which a
@@ -89,8 +204,8 @@ TEST_CASE("the shadowmask of a disc light under a straight edge: the disc's visi
     const Bake baked = bakeMixed(dir, body, sun, {"sun"}, {}, 64);
     const Shadowmask& mask = baked.lightmaps->shadowmask;
     REQUIRE(mask.images.size() == baked.lightmaps->lightmaps.images.size());
-    REQUIRE(mask.channel.size() == 1);
-    CHECK(mask.channel[0] == 0);
+    REQUIRE(mask.lights.size() == 1);
+    CHECK(mask.lights[0].channel == 0);
     CHECK(mask.lights_without_channel == 0);
     const double radius = std::tan(2.5 * kPi / 180.0);
     const LightmapLayout& layout = baked.lightmaps->lightmaps.layout;
@@ -137,9 +252,9 @@ TEST_CASE("shadowmask channels: overlapping lights differ, a fifth overlapping f
     const std::string floor = quad({{-1, 0, -1}, {-1, 0, 1}, {11, 0, 1}, {11, 0, -1}}, 0.5);
     const Bake corridor = bakeMixed(dir, lamps + floor, {}, {"L0", "L1", "L2", "L3", "L4", "L5"}, {}, 8);
     const Shadowmask& mask = corridor.lightmaps->shadowmask;
-    REQUIRE(mask.channel.size() == 6);
-    for (int i = 0; i + 1 < 6; ++i) CHECK(mask.channel[i] != mask.channel[i + 1]);  // neighbours overlap
-    for (int i = 0; i < 6; ++i) CHECK(mask.channel[i] >= 0);
+    REQUIRE(mask.lights.size() == 6);
+    for (int i = 0; i + 1 < 6; ++i) CHECK(mask.lights[i].channel != mask.lights[i + 1].channel);  // neighbours overlap
+    for (int i = 0; i < 6; ++i) CHECK(mask.lights[i].channel >= 0);
     CHECK(mask.lights_without_channel == 0);
 
     std::string crowd;
@@ -147,7 +262,7 @@ TEST_CASE("shadowmask channels: overlapping lights differ, a fifth overlapping f
     const Bake crowded = bakeMixed(dir, crowd + floor, {}, {"C0", "C1", "C2", "C3", "C4"}, {}, 8);
     CHECK(crowded.lightmaps->shadowmask.lights_without_channel == 1);
     CHECK(crowded.lightmaps->shadowmask.texels_over_channels > 0);
-    CHECK(crowded.lightmaps->shadowmask.channel[4] == -1);
+    CHECK(crowded.lightmaps->shadowmask.lights[4].channel == -1);
 }
 
 // Directional lightmaps: on a floor lit by a large area light (and a wall's bounce), the
