@@ -12,7 +12,7 @@ nothing is timed; under a second).
 - every comparison judges as it says, a missing figure is "not measured" and never "met", and
   medians over runs are taken per figure (element-wise for lists);
 - the targets table is well formed: every row names a measurement that exists, open rows come
-  from the open issues 27, 28 and 33, and a measurement used by several rows runs once, N times;
+  from the open issues 27 and 28, and a measurement used by several rows runs once, N times;
 - the printed table holds each row's figure, target, verdict and command.
 Python standard library only.
 """
@@ -187,7 +187,7 @@ class Table(unittest.TestCase):
             name, issue, state, mode, measurement, figure, comparison, threshold = row
             self.assertIn(issue, issues, name)
             self.assertIn(state, ("met", "open"), name)
-            self.assertEqual(state == "open", issue in (27, 28, 33), name)
+            self.assertEqual(state == "open", issue in (27, 28), name)
             self.assertIn(mode, ("quick", "long"), name)
             self.assertIn(measurement, targets.MEASUREMENTS, name)
             self.assertIn(comparison, ("<=", ">=", "==", "|x|<=", "nonincreasing", "nondecreasing"), name)
