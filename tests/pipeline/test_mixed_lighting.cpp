@@ -55,64 +55,19 @@ double pointPolygonFormFactor(const DVec3& x, const DVec3& n, const std::vector<
     return std::abs(sum) / (2.0 * kPi);
 }
 
-}  // namespace
-
-// A floor and a white wall lit by a lamp the engine draws: the bake keeps what the wall
-// reflects onto the floor, not the lamp's own light. The lamp's direct light is the closed form
-// I cos / d^2; what is left of reference_mc's total is the bounce.
-TEST_CASE("--realtime-lights: a point light's direct light leaves the bake, its bounce stays (against reference_mc)") {
+// A floor and a white wall lit by `light` (named `name`), baked with everything baked and with
+// that light drawn by the engine: at three floor probes the second keeps reference_mc's total
+// less the closed-form direct light `direct(probe)`, the bounce, and lacks that direct light
+// (within `direct_tolerance` of it); the lightmap drops by the same.
+template <class Direct>
+void checkBounceOnly(const std::string& light, const std::string& name, Direct&& direct, double direct_tolerance) {
     TempDir dir;
-    const std::string body = "DEF Lamp PointLight { location 0 1 0 intensity 1 }\n" +
-                             quad({{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, 0.5) +
+    const std::string body = light + quad({{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, 0.5) +
                              quad({{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, 0.8);
     const std::vector<Probe> probes = {daylight_test::probe({0, 0, 0.5}, {0, 1, 0}), daylight_test::probe({0.5, 0, -0.5}, {0, 1, 0}),
                                        daylight_test::probe({-0.5, 0, 0}, {0, 1, 0})};
     const Bake all = bakeMixed(dir, body, {}, {}, probes, 16);
-    const Bake mixed = bakeMixed(dir, body, {}, {"Lamp"}, probes, 16);
-    reference::McOptions mc;
-    mc.samples = 65536;
-    mc.threads = 2;
-    const std::vector<reference::McProbe> at = {{probes[0].position, probes[0].normal},
-                                                {probes[1].position, probes[1].normal},
-                                                {probes[2].position, probes[2].normal}};
-    const std::vector<reference::McProbeResult> total = reference::estimateProbes(reference::McBvh(*all.scene), at, mc);
-    for (size_t i = 0; i < probes.size(); ++i) {
-        CAPTURE(probes[i].position);
-        const DVec3 to_lamp = DVec3(0, 1, 0) - probes[i].position;
-        const double direct = to_lamp.y / glm::length(to_lamp) / glm::dot(to_lamp, to_lamp);  // I cos / d^2, I = 1
-        const double bounce = total[i].irradiance.x - direct;
-        const double baked = mixed.probe_irradiance[i].x;
-        MESSAGE("bounce only " << baked << ", reference total " << total[i].irradiance.x << " +- "
-                               << total[i].standard_error.x << " less the direct " << direct);
-        REQUIRE(bounce > 0.02);
-        CHECK(total[i].standard_error.x < 0.1 * bounce);
-        CHECK(std::abs(baked - bounce) < 0.15 * bounce);  // with the lamp: several times the bounce
-        CHECK(std::abs(all.probe_irradiance[i].x - baked - direct) < 1e-6 + 1e-3 * direct);  // exactly the direct light gone
-    }
-    // The lightmap drops by the same: the floor's texels hold the bounce, a fraction of the light.
-    double sum_all = 0.0, sum_mixed = 0.0;
-    for (const float v : all.lightmaps->lightmaps.images[0].rgb) sum_all += v;
-    for (const float v : mixed.lightmaps->lightmaps.images[0].rgb) sum_mixed += v;
-    CHECK(sum_mixed < 0.5 * sum_all);
-    CHECK(sum_mixed > 0.0);
-    CHECK(mixed.lightmaps->shadowmask.lights.size() == 1);
-    CHECK(all.lightmaps->shadowmask.images.empty());
-}
-
-// The same with a lamp that is an emissive panel (a mesh, named by its geometry's DEF name): its
-// direct light is pi L times Lambert's point-to-polygon form factor; what is left of
-// reference_mc's total is the bounce the bake keeps.
-TEST_CASE("--realtime-lights: an emissive mesh's direct light leaves the bake, its bounce stays (against reference_mc)") {
-    TempDir dir;
-    const std::vector<DVec3> panel = {{-0.25, 1, -0.25}, {0.25, 1, -0.25}, {0.25, 1, 0.25}, {-0.25, 1, 0.25}};
-    const double radiance = 10.0;
-    const std::string body = emitter("Panel", panel, radiance) +
-                             quad({{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, 0.5) +
-                             quad({{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, 0.8);
-    const std::vector<Probe> probes = {daylight_test::probe({0, 0, 0.5}, {0, 1, 0}), daylight_test::probe({0.5, 0, -0.5}, {0, 1, 0}),
-                                       daylight_test::probe({-0.5, 0, 0}, {0, 1, 0})};
-    const Bake all = bakeMixed(dir, body, {}, {}, probes, 16);
-    const Bake mixed = bakeMixed(dir, body, {}, {"Panel"}, probes, 16);
+    const Bake mixed = bakeMixed(dir, body, {}, {name}, probes, 16);
     reference::McOptions mc;
     mc.samples = 65536;
     mc.threads = 2;
@@ -121,24 +76,66 @@ TEST_CASE("--realtime-lights: an emissive mesh's direct light leaves the bake, i
     const std::vector<reference::McProbeResult> total = reference::estimateProbes(reference::McBvh(*all.scene), at, mc);
     for (size_t i = 0; i < probes.size(); ++i) {
         CAPTURE(probes[i].position);
-        const double direct = kPi * radiance * pointPolygonFormFactor(probes[i].position, probes[i].normal, panel);
-        const double bounce = total[i].irradiance.x - direct;
+        const double e = direct(probes[i]);
+        const double bounce = total[i].irradiance.x - e;
         const double baked = mixed.probe_irradiance[i].x;
         MESSAGE("bounce only " << baked << ", reference total " << total[i].irradiance.x << " +- "
-                               << total[i].standard_error.x << " less the direct " << direct);
+                               << total[i].standard_error.x << " less the direct " << e);
         REQUIRE(bounce > 0.02);
         CHECK(total[i].standard_error.x < 0.1 * bounce);
-        CHECK(std::abs(baked - bounce) < 0.15 * bounce);  // with the panel: several times the bounce
-        CHECK(std::abs(all.probe_irradiance[i].x - baked - direct) < 0.01 * direct);
+        CHECK(std::abs(baked - bounce) < 0.15 * bounce);  // with the light: several times the bounce
+        CHECK(std::abs(all.probe_irradiance[i].x - baked - e) < 1e-6 + direct_tolerance * e);  // the direct light gone
     }
+    // The floor's texels hold the bounce, a fraction of the light.
     double sum_all = 0.0, sum_mixed = 0.0;
     for (const float v : all.lightmaps->lightmaps.images[0].rgb) sum_all += v;
     for (const float v : mixed.lightmaps->lightmaps.images[0].rgb) sum_mixed += v;
     CHECK(sum_mixed < 0.5 * sum_all);
     CHECK(sum_mixed > 0.0);
     REQUIRE(mixed.lightmaps->shadowmask.lights.size() == 1);
-    CHECK(mixed.lightmaps->shadowmask.lights[0].name == "Panel");
+    CHECK(mixed.lightmaps->shadowmask.lights[0].name == name);
     CHECK(mixed.lightmaps->shadowmask.lights[0].channel == 0);
+    CHECK(all.lightmaps->shadowmask.images.empty());
+}
+
+// Calls f(point, mask value) for every texel of mesh `floor`'s charts within 1.5 m of the origin
+// in x and z (away from the floor's and the occluding plane's ends).
+template <class F>
+void forFloorMask(const Bake& baked, uint32_t floor, F&& f) {
+    const Shadowmask& mask = baked.lightmaps->shadowmask;
+    for (const LightmapChart& chart : baked.lightmaps->lightmaps.layout.charts) {
+        if (chart.mesh != floor) continue;
+        for (int ty = chart.y; ty < chart.y + chart.height; ++ty)
+            for (int tx = chart.x; tx < chart.x + chart.width; ++tx) {
+                const DVec2 centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
+                const DVec3 p = chart.worldPoint(centre);
+                if (std::abs(p.x) > 1.5 || std::abs(p.z) > 1.5) continue;
+                const size_t atlas = static_cast<size_t>(chart.atlas);
+                f(p, mask.images[atlas][4 * (static_cast<size_t>(ty) * mask.widths[atlas] + tx)] / 255.0,
+                  chart.texels_per_metre);
+            }
+    }
+}
+
+}  // namespace
+
+// A point lamp: its direct light is the closed form I cos / d^2 (I = 1), which the read-out
+// leaves out exactly.
+TEST_CASE("--realtime-lights: a point light's direct light leaves the bake, its bounce stays (against reference_mc)") {
+    checkBounceOnly("DEF Lamp PointLight { location 0 1 0 intensity 1 }\n", "Lamp", [](const Probe& p) {
+        const DVec3 to_lamp = DVec3(0, 1, 0) - p.position;
+        return to_lamp.y / glm::length(to_lamp) / glm::dot(to_lamp, to_lamp);
+    }, 1e-3);
+}
+
+// An emissive panel (a mesh, named by its geometry's DEF name): its direct light is pi L times
+// Lambert's point-to-polygon form factor, which the read-out's own gather meets within 1 %.
+TEST_CASE("--realtime-lights: an emissive mesh's direct light leaves the bake, its bounce stays (against reference_mc)") {
+    const std::vector<DVec3> panel = {{-0.25, 1, -0.25}, {0.25, 1, -0.25}, {0.25, 1, 0.25}, {-0.25, 1, 0.25}};
+    const double radiance = 10.0;
+    checkBounceOnly(emitter("Panel", panel, radiance), "Panel", [&](const Probe& p) {
+        return kPi * radiance * pointPolygonFormFactor(p.position, p.normal, panel);
+    }, 0.01);
 }
 
 // A 1 x 1 m emissive panel 2 m over a floor, half of the floor under a plane 1 m up whose
@@ -153,37 +150,25 @@ TEST_CASE("the shadowmask of an emissive panel under a straight edge: the panel'
     const Bake baked = bakeMixed(dir, body, {}, {"Panel"}, {}, 64);
     const Shadowmask& mask = baked.lightmaps->shadowmask;
     REQUIRE(mask.lights.size() == 1);
-    const LightmapLayout& layout = baked.lightmaps->lightmaps.layout;
     size_t penumbra = 0, lit = 0, dark = 0;
     double worst = 0.0;
-    for (const LightmapChart& chart : layout.charts) {
-        if (chart.mesh != 1) continue;  // the floor
-        for (int ty = chart.y; ty < chart.y + chart.height; ++ty)
-            for (int tx = chart.x; tx < chart.x + chart.width; ++tx) {
-                const DVec2 centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
-                const DVec3 p = chart.worldPoint(centre);
-                if (std::abs(p.x) > 1.5 || std::abs(p.z) > 1.5) continue;  // away from the floor's and the plane's ends
-                const DVec3 up(0, 1, 0);
-                const double seen_from = std::clamp(-p.x, -0.5, 0.5);
-                const double whole = pointPolygonFormFactor(p, up, panel);
-                const double expected =
-                    seen_from >= 0.5 ? 0.0
-                                     : pointPolygonFormFactor(p, up, {{seen_from, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5},
-                                                                       {seen_from, 2, 0.5}}) / whole;
-                const size_t atlas = static_cast<size_t>(chart.atlas);
-                const double got = mask.images[atlas][4 * (static_cast<size_t>(ty) * mask.widths[atlas] + tx)] / 255.0;
-                CAPTURE(p.x);
-                CAPTURE(p.z);
-                CAPTURE(got);
-                CAPTURE(expected);
-                CHECK(std::abs(got - expected) < 0.04);  // 16 x 16 samples over the panel
-                worst = std::max(worst, std::abs(got - expected));
-                if (std::abs(p.x) < 0.5 / chart.texels_per_metre + 1e-9) CHECK(got == doctest::Approx(0.5).epsilon(0.05));
-                penumbra += expected > 0.05 && expected < 0.95;
-                lit += expected == 1.0 && got == 1.0;
-                dark += expected == 0.0 && got == 0.0;
-            }
-    }
+    forFloorMask(baked, 1, [&](const DVec3& p, double got, double texels_per_metre) {
+        const DVec3 up(0, 1, 0);
+        const double seen_from = std::clamp(-p.x, -0.5, 0.5);
+        const double whole = pointPolygonFormFactor(p, up, panel);
+        const double expected =
+            seen_from >= 0.5 ? 0.0
+                             : pointPolygonFormFactor(p, up, {{seen_from, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5},
+                                                               {seen_from, 2, 0.5}}) / whole;
+        CAPTURE(p);
+        CAPTURE(expected);
+        CHECK(std::abs(got - expected) < 0.04);  // 16 x 16 samples over the panel
+        worst = std::max(worst, std::abs(got - expected));
+        if (std::abs(p.x) < 0.5 / texels_per_metre + 1e-9) CHECK(got == doctest::Approx(0.5).epsilon(0.05));
+        penumbra += expected > 0.05 && expected < 0.95;
+        lit += expected == 1.0 && got == 1.0;
+        dark += expected == 0.0 && got == 0.0;
+    });
     MESSAGE("worst " << worst << " over " << penumbra << " penumbra texels");
     CHECK(penumbra >= 1000);
     CHECK(lit > 1000);
@@ -208,30 +193,20 @@ TEST_CASE("the shadowmask of a disc light under a straight edge: the disc's visi
     CHECK(mask.lights[0].channel == 0);
     CHECK(mask.lights_without_channel == 0);
     const double radius = std::tan(2.5 * kPi / 180.0);
-    const LightmapLayout& layout = baked.lightmaps->lightmaps.layout;
     size_t penumbra = 0, lit = 0, dark = 0;
     std::vector<double> flanking;  // the texels either side of the shadow line
-    for (const LightmapChart& chart : layout.charts) {
-        if (chart.mesh != 0) continue;  // the floor
-        for (int ty = chart.y; ty < chart.y + chart.height; ++ty)
-            for (int tx = chart.x; tx < chart.x + chart.width; ++tx) {
-                const DVec2 centre = chart.min_plane + (DVec2(tx - chart.x, ty - chart.y) + 0.5) / chart.texels_per_metre;
-                const DVec3 p = chart.worldPoint(centre);
-                if (std::abs(p.x) > 1.5 || std::abs(p.z) > 1.5) continue;  // away from the floor's and the plane's ends
-                const double c = std::clamp(-p.x / radius, -1.0, 1.0);
-                const double expected = (std::acos(c) - c * std::sqrt(1.0 - c * c)) / kPi;
-                const size_t atlas = static_cast<size_t>(chart.atlas);
-                const double got = mask.images[atlas][4 * (static_cast<size_t>(ty) * mask.widths[atlas] + tx)] / 255.0;
-                CAPTURE(p.x);
-                // The sun's disc is sampled at 6 x 6 points in a penumbra (punctual_lights.cpp):
-                // its visible share is within two of them.
-                CHECK(std::abs(got - expected) < 2.0 / 36.0);
-                if (std::abs(p.x) < 0.5 / chart.texels_per_metre + 1e-9) flanking.push_back(got);
-                penumbra += expected > 0.05 && expected < 0.95;
-                lit += expected == 1.0 && got == 1.0;
-                dark += expected == 0.0 && got == 0.0;
-            }
-    }
+    forFloorMask(baked, 0, [&](const DVec3& p, double got, double texels_per_metre) {
+        const double c = std::clamp(-p.x / radius, -1.0, 1.0);
+        const double expected = (std::acos(c) - c * std::sqrt(1.0 - c * c)) / kPi;
+        CAPTURE(p.x);
+        // The sun's disc is sampled at 6 x 6 points in a penumbra (punctual_lights.cpp): its
+        // visible share is within two of them.
+        CHECK(std::abs(got - expected) < 2.0 / 36.0);
+        if (std::abs(p.x) < 0.5 / texels_per_metre + 1e-9) flanking.push_back(got);
+        penumbra += expected > 0.05 && expected < 0.95;
+        lit += expected == 1.0 && got == 1.0;
+        dark += expected == 0.0 && got == 0.0;
+    });
     CHECK(penumbra >= 20);
     // Bilinear filtering on the shadow line (between two texel centres) reads their mean: 0.5.
     REQUIRE(flanking.size() >= 20);
