@@ -16,6 +16,7 @@ void printDiagnosticsToStderr(Diagnostics& diagnostics);
 
 void addInfoCommand(CLI::App& app, int& result);
 void addBakeCommand(CLI::App& app, int& result);
+void addSolveCommand(CLI::App& app, int& result);
 void addCompareCommand(CLI::App& app, int& result);
 
 }  // namespace radbake::cli

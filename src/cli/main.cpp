@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     int result = kExitOk;
     addInfoCommand(app, result);
     addBakeCommand(app, result);
+    addSolveCommand(app, result);
     addCompareCommand(app, result);
 
     try {

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <new>
 
 #include "bake/lightmap_budget.h"
 #include "bake/lightmap_mesh.h"
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "core/regular_file.h"
 #include "export/hash.h"
 #include "geometry/parts.h"
 #include "io/import.h"
@@ -127,6 +129,43 @@ void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& opti
     report.shadowmask_texels_over_channels = baked.shadowmask.texels_over_channels;
 }
 
+// The parts and the solve into out.solution; false (status unset) when stopped or failed.
+bool solveFresh(Bake& out, ParallelRunner& runner, Progress& progress, Diagnostics& diagnostics) {
+    progress.beginPhase("parts");
+    checkMemoryBudget(memoryBudgetMegabytes(out.options.solver.max_memory_mb), "parts");
+    const PartSet parts = buildParts(*out.scene, PartOptions{}, diagnostics);
+    if (progress.cancelled() || diagnostics.hasErrors()) return false;
+    progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
+    out.solution = solveRadiosity(*out.scene, parts, out.options.solver, runner, progress, diagnostics);
+    return out.solution && !progress.cancelled() && !diagnostics.hasErrors();
+}
+
+// The result's status from the run's state: cancelled, an error reported, or `ok`.
+void settleStatus(Bake& out, Progress& progress, Diagnostics& diagnostics, bool ok) {
+    out.status = progress.cancelled()        ? BakeStatus::Cancelled
+                 : diagnostics.hasErrors() || !ok ? BakeStatus::InputError
+                                                 : BakeStatus::Ok;
+}
+
+// `radbake solve`: the stages up to the solve, kept when the solution file already holds this
+// scene's solution for these solver settings; sets out.status.
+void solveStages(Bake& out, bool& kept, Progress& progress, Diagnostics& diagnostics) {
+    const Scene& scene = *out.scene;
+    ParallelRunner runner(out.options.threading, progress.cancelFlag());
+    if (!checkBakeable(scene, diagnostics)) return settleStatus(out, progress, diagnostics, false);
+    const std::string key = solutionKey(scene, out.options.solver);
+    kept = solutionFileHolds(key, out.options.solution_file);
+    if (kept) return settleStatus(out, progress, diagnostics, true);
+    if (!solveFresh(out, runner, progress, diagnostics)) return settleStatus(out, progress, diagnostics, false);
+    out.report.solve = out.solution->stats;
+    progress.beginPhase("write");
+    const bool saved = saveSolution(*out.solution, key, out.options.solution_file, diagnostics);
+    if (!saved)
+        diagnostics.error({out.options.solution_file, 0, 0}, "the solution was not written (the warning above says why)");
+    progress.endPhase();
+    settleStatus(out, progress, diagnostics, saved);
+}
+
 // Every stage after the import; sets out.status.
 void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     const Scene& scene = *out.scene;
@@ -195,16 +234,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         if (stopped()) return;
     }
     if (!out.solution) {
-        beginPhase("parts");
-        const PartSet parts = buildParts(scene, PartOptions{}, diagnostics);
-        if (stopped()) return;
-        progress.endPhase();  // the solver names its own phases (elements, links, solve, ...)
-        out.solution = solveRadiosity(scene, parts, options.solver, runner, progress, diagnostics);
-        if (stopped()) return;
-        if (!out.solution) {
-            out.status = BakeStatus::InputError;
-            return;
-        }
+        if (!solveFresh(out, runner, progress, diagnostics)) return (void)stopped();
         if (!options.solution_file.empty())
             saveSolution(*out.solution, solution_key, options.solution_file, diagnostics);
     }
@@ -288,8 +318,10 @@ void reportMemory(const std::string& scene_path, const std::string& phase, const
     diagnostics.error({scene_path, 0, 0}, message);
 }
 
+using Stages = std::function<void(Bake&, Progress&, Diagnostics&)>;
+
 Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progress& progress,
-               Diagnostics& diagnostics) {
+               Diagnostics& diagnostics, const Stages& stages) {
     Bake out;
     out.scene = std::move(scene);
     const std::string scene_path = out.scene->source_path;
@@ -301,7 +333,7 @@ Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progres
         }
         addBackTwins(*out.scene);  // before every stage: each side of a two-sided mesh is a mesh of its own
         fillSceneReport(*out.scene, out);
-        bakeStages(out, progress, diagnostics);
+        stages(out, progress, diagnostics);
     } catch (const std::bad_alloc&) {
         reportMemory(scene_path, progress.currentPhase(), nullptr, diagnostics);
         out.status = BakeStatus::InputError;
@@ -320,10 +352,11 @@ Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progres
 }
 
 // Hands a scene to bakeOwned; an allocation failing on the way is reported, not thrown.
-Bake bakeScene(Scene&& scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+Bake bakeScene(Scene&& scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics,
+               const Stages& stages = bakeStages) {
     const std::string scene_path = scene.source_path;
     try {
-        return bakeOwned(std::make_unique<Scene>(std::move(scene)), options, progress, diagnostics);
+        return bakeOwned(std::make_unique<Scene>(std::move(scene)), options, progress, diagnostics, stages);
     } catch (const std::bad_alloc&) {
         reportMemory(scene_path, progress.currentPhase(), nullptr, diagnostics);
     }
@@ -354,7 +387,11 @@ const char* toString(BakeStatus status) {
     return "?";
 }
 
-Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+namespace {
+
+// Reads the scene at `path` (options.import) and runs `stages` on it.
+Bake importAndRun(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics,
+                  const Stages& stages) {
     progress.beginPhase("import");
     ImportOptions import = options.import;
     if (!(import.max_memory_mb > 0.0)) import.max_memory_mb = options.solver.max_memory_mb;  // one budget
@@ -365,7 +402,33 @@ Bake bake(const std::string& path, const BakeOptions& options, Progress& progres
         failed.status = progress.cancelled() ? BakeStatus::Cancelled : BakeStatus::InputError;
         return failed;
     }
-    return bakeScene(std::move(*scene), options, progress, diagnostics);
+    return bakeScene(std::move(*scene), options, progress, diagnostics, stages);
+}
+
+}  // namespace
+
+Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+    return importAndRun(path, options, progress, diagnostics, bakeStages);
+}
+
+SolveOnly solveOnly(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+    SolveOnly result;
+    if (options.solution_file.empty()) {
+        diagnostics.error({path, 0, 0}, "the solve alone needs a solution file to write");
+        return result;
+    }
+    // Refused before the solve, as it would be replaced after it.
+    if (const std::string why = whyNotReplaceable(options.solution_file); !why.empty()) {
+        diagnostics.error({options.solution_file, 0, 0}, "cannot write the solution file: " + why);
+        return result;
+    }
+    const Bake solved = importAndRun(path, options, progress, diagnostics,
+                                     [&](Bake& out, Progress& p, Diagnostics& d) { solveStages(out, result.kept, p, d); });
+    result.status = solved.status;
+    result.stats = solved.report.solve;
+    if (solved.scene) result.input_files = solved.scene->input_files;
+    result.seconds = progress.totalSeconds();
+    return result;
 }
 
 Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {

@@ -72,6 +72,20 @@ Bake bake(const std::string& path, const BakeOptions& options, Progress& progres
 // not used (probe positions are in metres too).
 Bake bake(Scene scene, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
 
+// `radbake solve`: the solve alone, the first step of a bake split over machines. Reads the
+// scene at `path` and, unless options.solution_file already holds its solution for these
+// solver settings (then kept as it is, unread past its key), solves it and writes the
+// solution there (an error when it cannot be written). Read-out and lightmap options are not used.
+struct SolveOnly {
+    BakeStatus status = BakeStatus::InputError;
+    bool kept = false;                     // the file held this solution already
+    SolveStats stats;                      // of the solve (none when kept)
+    std::vector<std::string> input_files;  // every file the scene read or looked for
+    double seconds = 0.0;
+    bool ok() const { return status == BakeStatus::Ok; }
+};
+SolveOnly solveOnly(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics);
+
 // The lightmap charts bake() fills for `scene` (its back twins added): options.lightmaps'
 // atlas size, padding, tolerance and per-mesh scales, at the density asked for within the
 // texel budget (options.import.unit_scale converts it). bake() builds them before its solve;

@@ -2,6 +2,8 @@
 // as raw records (trivially copyable; their sizes are part of the key).
 #include "pipeline/solution_cache.h"
 
+#include <fstream>
+
 #include <cstring>
 #include <system_error>
 #include <type_traits>
@@ -148,6 +150,39 @@ bool saveSolution(const Solution& s, const std::string& key, const std::filesyst
     return false;
 }
 
+namespace {
+
+// The solution's arrays after the header, nullopt when they do not fill `bytes` exactly.
+std::optional<Solution> parseSolution(const std::string& bytes, size_t header_size) {
+    Solution s;
+    Reader r{bytes, header_size};
+    r.array(s.vertices);
+    r.array(s.vertex_sky);
+    r.array(s.elements);
+    r.value(s.root_count);
+    r.array(s.links);
+    r.array(s.clusters);
+    r.array(s.cluster_members);
+    r.array(s.member_position);
+    r.array(s.root_leaf_cluster);
+    r.array(s.cluster_links);
+    r.array(s.cluster_kernel);
+    r.value(s.scene_extent);
+    r.value(s.total_area);
+    r.value(s.stats);
+    if (!r.ok || r.at != bytes.size() || s.root_count > s.elements.size()) return std::nullopt;
+    return s;
+}
+
+}  // namespace
+
+bool solutionFileHolds(const std::string& key, const std::filesystem::path& file) {
+    std::string why;
+    const std::optional<std::string> bytes = readRegularFile(file.string(), why);
+    const std::string header = std::string(kMagic) + key + "\n";
+    return bytes && bytes->compare(0, header.size(), header) == 0 && parseSolution(*bytes, header.size());
+}
+
 std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
                                      const std::filesystem::path& file, int threads, Diagnostics& diagnostics) {
     // Refused before the solve, as it would be replaced after it.
@@ -169,26 +204,12 @@ std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& op
         diagnostics.note({file.string(), 0, 0}, "the saved solution is for another scene or other solver settings: solving again");
         return std::nullopt;
     }
-    Solution s;
-    Reader r{bytes, header.size()};
-    r.array(s.vertices);
-    r.array(s.vertex_sky);
-    r.array(s.elements);
-    r.value(s.root_count);
-    r.array(s.links);
-    r.array(s.clusters);
-    r.array(s.cluster_members);
-    r.array(s.member_position);
-    r.array(s.root_leaf_cluster);
-    r.array(s.cluster_links);
-    r.array(s.cluster_kernel);
-    r.value(s.scene_extent);
-    r.value(s.total_area);
-    r.value(s.stats);
-    if (!r.ok || r.at != bytes.size() || s.root_count > s.elements.size()) {
+    std::optional<Solution> parsed = parseSolution(bytes, header.size());
+    if (!parsed) {
         diagnostics.note({file.string(), 0, 0}, "the saved solution is damaged: solving again");
         return std::nullopt;
     }
+    Solution s = std::move(*parsed);
     s.scene = &scene;
     s.options = options;
     if (s.root_count > 0) {

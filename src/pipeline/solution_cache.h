@@ -26,6 +26,9 @@ std::string solutionKey(const Scene& scene, const SolverOptions& options);
 bool saveSolution(const Solution& solution, const std::string& key, const std::filesystem::path& file,
                   Diagnostics& diagnostics);
 
+// Whether `file` is a regular file holding a solution saved under `key` (its header only is read).
+bool solutionFileHolds(const std::string& key, const std::filesystem::path& file);
+
 // The solution saved under `key` in `file`, for `scene` (which it then points to); nullopt
 // when the file is absent, holds another key or cannot be read (a note says why), or is not
 // a regular file (a directory, FIFO, device: an error, as the bake would replace it).

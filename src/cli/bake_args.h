@@ -1,0 +1,70 @@
+#pragma once
+// The bake options every step of a bake takes (`radbake bake`, `radbake solve`): one parser,
+// so a build farm passes the same command line to each step.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+
+#include "core/progress.h"
+#include "radbake.h"
+
+namespace radbake::cli {
+
+struct BakeArgs {
+    std::string scene;
+    std::string out_dir;  // empty: baked/<scene name>
+    std::string quality_name = "medium";
+    std::string visibility_name = "aabb";
+    int threads = 0;
+    bool no_pin_threads = false;
+    std::string probes;
+    std::string lightmap_scales;
+    std::string depfile;
+    std::string solution_file;
+    ImportOptions import;
+    bool quiet = false;
+    bool preview = false;
+    bool export_lights = false;
+    bool no_lightmaps = false;
+    bool no_clustering = false;
+    std::string edge_correction;  // "", "off", "shared" or "on": the quality's choice unless given
+    std::string lightmap_quantity = "irradiance";
+    std::string realtime_lights;
+    LightmapSettings lightmaps;
+    // Raw knobs; applied over the preset only when given on the command line.
+    double error_threshold = 0.0;
+    double local_error_threshold = 0.0;
+    double min_area = 0.0;
+    double tolerance = 0.0;
+    int max_iterations = 0;
+    double max_memory_mb = 0.0;
+    CLI::Option* error_threshold_option = nullptr;
+    CLI::Option* local_error_threshold_option = nullptr;
+    CLI::Option* min_area_option = nullptr;
+    CLI::Option* tolerance_option = nullptr;
+    CLI::Option* max_iterations_option = nullptr;
+    CLI::Option* texel_tolerance_option = nullptr;
+};
+
+// Registers every bake option (all but the scene and the output folder) on `cmd`, into `args`.
+void addBakeOptions(CLI::App& cmd, BakeArgs& args);
+
+// The preset of --quality, then every knob the command line gave.
+BakeOptions bakeOptions(const BakeArgs& args);
+
+// Reads the files the options name (--probes, --lightmap-scales, --realtime-lights) into
+// `options`; false after reporting.
+bool readBakeSideFiles(const BakeArgs& args, BakeOptions& options, Diagnostics& diagnostics);
+
+// A log (stderr not a terminal) gets plain lines; --quiet none.
+ProgressStyle progressStyleOf(bool quiet);
+
+// Diagnostics go to stderr; notes only when the run is interactive (not quiet, a terminal).
+void routeDiagnostics(Diagnostics& diagnostics, Progress& progress);
+
+// The program's outer boundary for a command on `scene`: nothing escapes; unwinding abandons
+// the outputs. Sets `result` to run()'s exit code, or 1 after printing what was thrown.
+void runGuarded(const std::string& scene, const char* doing, int& result, const std::function<int()>& run);
+
+}  // namespace radbake::cli
