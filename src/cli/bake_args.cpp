@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/option_checks.h"
 #include "core/memory.h"
+#include "core/regular_file.h"
 
 namespace radbake::cli {
 namespace {
@@ -113,6 +114,13 @@ bool readBakeSideFiles(const BakeArgs& args, BakeOptions& options, Diagnostics& 
         options.realtime_lights = std::move(*names);
     }
     return true;
+}
+
+bool depfileWritable(const BakeArgs& args, Diagnostics& diagnostics) {
+    const std::string why = args.depfile.empty() ? "" : whyNotReplaceable(args.depfile);
+    if (why.empty()) return true;
+    diagnostics.error({args.depfile, 0, 0}, "cannot write the depfile: " + why);
+    return false;
 }
 
 ProgressStyle progressStyleOf(bool quiet) {

@@ -57,6 +57,10 @@ BakeOptions bakeOptions(const BakeArgs& args);
 // `options`; false after reporting.
 bool readBakeSideFiles(const BakeArgs& args, BakeOptions& options, Diagnostics& diagnostics);
 
+// False after reporting when --depfile names something the command could not replace (checked
+// before any work, which would otherwise write every other output first).
+bool depfileWritable(const BakeArgs& args, Diagnostics& diagnostics);
+
 // A log (stderr not a terminal) gets plain lines; --quiet none.
 ProgressStyle progressStyleOf(bool quiet);
 

@@ -26,10 +26,7 @@ int runBake(const BakeArgs& args) {
     cleanUpStagingOnSignals();
 
     // Refused before the bake, which would otherwise write every other output first.
-    if (const std::string why = args.depfile.empty() ? "" : whyNotReplaceable(args.depfile); !why.empty()) {
-        diagnostics.error({args.depfile, 0, 0}, "cannot write the depfile: " + why);
-        return kExitInputError;
-    }
+    if (!depfileWritable(args, diagnostics)) return kExitInputError;
     // The folder is locked (and checked to be this scene's) before any work: a second bake
     // into it is refused at once, not after its solve.
     const std::filesystem::path out_dir = args.out_dir.empty()

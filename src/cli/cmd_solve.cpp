@@ -22,10 +22,7 @@ int runSolve(const BakeArgs& args) {
     Progress progress(progressStyleOf(args.quiet));
     Diagnostics diagnostics;
     routeDiagnostics(diagnostics, progress);
-    if (const std::string why = args.depfile.empty() ? "" : whyNotReplaceable(args.depfile); !why.empty()) {
-        diagnostics.error({args.depfile, 0, 0}, "cannot write the depfile: " + why);
-        return kExitInputError;
-    }
+    if (!depfileWritable(args, diagnostics)) return kExitInputError;
     const SolveOnly solved = solveOnly(args.scene, bakeOptions(args), progress, diagnostics);
     if (!solved.ok()) return kExitInputError;
     if (!args.depfile.empty() &&
