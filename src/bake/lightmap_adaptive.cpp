@@ -218,7 +218,7 @@ std::vector<TexelSite> chartTexelSites(const LightmapChart& chart, ParallelRunne
 
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
-                                      Progress* progress, const HiddenTest& hidden) {
+                                      Progress* progress, const HiddenTest& hidden, double dark) {
     State s{.layout = layout, .irradiance = irradiance, .progress = progress};
     size_t total = 0;
     for (const LightmapChart& chart : layout.charts) {
@@ -266,7 +266,7 @@ AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<
 
     // Level by level: evaluate the blocks' corners (and, for candidates, their test points), then
     // accept smooth blocks and split the others. The decisions read evaluated values only.
-    double floor = -1.0;
+    double floor = dark >= 0.0 ? std::max(dark, 1e-300) : -1.0;
     std::vector<Block> accepted;
     while (!blocks.empty()) {
         std::vector<uint8_t> candidate(blocks.size());

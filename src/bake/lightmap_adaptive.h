@@ -65,8 +65,12 @@ struct AdaptiveCounts {
 // thread count. A cancelled runner leaves texels unevaluated (the caller discards them).
 // `progress`, when given, moves from 0 to kTexelShare as texels are evaluated.
 inline constexpr double kTexelShare = 0.9;
+// `dark` (H / pi): below it the tolerance is taken against it, not the light itself. A bake
+// passes kDarkFloor of the light level its solution gives (brightestLight), known before any
+// texel is read, so each chart's decisions are its own (a shard of the read-out takes them as
+// the whole bake does); negative: kDarkFloor of the brightest texel of the first level.
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
-                                      Progress* progress = nullptr, const HiddenTest& hidden = {});
+                                      Progress* progress = nullptr, const HiddenTest& hidden = {}, double dark = -1.0);
 
 }  // namespace radbake

@@ -100,7 +100,7 @@ double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, s
 
 Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
                             ParallelRunner& runner, double texel_tolerance, Progress* progress,
-                            const HiddenTest& hidden) {
+                            const HiddenTest& hidden, double dark) {
     Lightmaps lightmaps;
     lightmaps.layout = std::move(layout);
     for (const LightmapAtlas& atlas : lightmaps.layout.atlases) {
@@ -112,7 +112,7 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
         lightmaps.images.push_back(std::move(image));
     }
     const AdaptiveCounts counts =
-        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner, progress, hidden);
+        evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner, progress, hidden, dark);
     lightmaps.covered_texels = counts.covered;
     lightmaps.hidden_texels = counts.hidden;
     lightmaps.evaluated_texels = counts.evaluated;
@@ -164,6 +164,25 @@ void dilateLightmaps(Lightmaps& lightmaps, int padding) {
     }
 }
 
+double brightestLight(const Solution& solution) {
+    const Scene* scene = solution.scene;
+    double brightest = 0.0;
+    for (const Element& e : solution.elements) {
+        if (!e.isLeaf()) continue;
+        DVec3 h(0.0);
+        for (uint32_t a = static_cast<uint32_t>(&e - solution.elements.data()); a != kNoElement; a = solution.elements[a].parent)
+            h += solution.elements[a].gathered;
+        // The solve holds punctual and sky light as reflected emission: rho x H on top of the
+        // element's own (taken out already for a real-time mesh).
+        const Mesh* mesh = scene && e.mesh < scene->meshes.size() ? &scene->meshes[e.mesh] : nullptr;
+        const DVec3 own = mesh && mesh->realtime_light.empty() ? kPi * DVec3(polygonEmission(*scene, *mesh, e.polygon)) : DVec3(0.0);
+        for (int c = 0; c < 3; ++c)
+            if (e.reflectance[c] > 0.0) h[c] += std::max(0.0, e.emission[c] - own[c]) / e.reflectance[c];
+        brightest = std::max({brightest, h.x, h.y, h.z});
+    }
+    return brightest / kPi;
+}
+
 LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options) {
     LightmapCharts out;
     out.options = options;
@@ -191,11 +210,13 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOp
     const HiddenTest hidden = [&](const SurfacePoint& at) {
         return lit && solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);
     };
+    const double dark = kDarkFloor * brightestLight(solution);
     lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance,
-                                  progress, hidden);
+                                  progress, hidden, dark);
     if (runner.cancelled()) return false;
     if (progress) progress->update(kTexelShare);
-    if (options.stitch_seams) stitchLightmaps(scene, lightmaps, irradiance, options.padding, runner, options.texel_tolerance);
+    if (options.stitch_seams)
+        stitchLightmaps(scene, lightmaps, irradiance, options.padding, runner, options.texel_tolerance, dark);
     if (progress) progress->update(1.0);
     if (links) lightmaps.work = links->work();
     return !runner.cancelled();

@@ -90,9 +90,16 @@ double texelCoverage(const LightmapChart& chart, int i, int j, DVec2& p_plane, s
 // texel_tolerance <= 0 evaluates every covered texel; above 0, smooth blocks of texels are
 // interpolated from evaluated ones within that relative tolerance (lightmap_adaptive.h).
 // Each texel writes its own slot, so the images do not depend on the thread count.
+// `dark`: as evaluateTexelsAdaptive takes it.
 Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irradiance, int padding,
                             ParallelRunner& runner, double texel_tolerance = 0.0, Progress* progress = nullptr,
-                            const HiddenTest& hidden = {});
+                            const HiddenTest& hidden = {}, double dark = -1.0);
+
+// The light level a solution gives (H / pi): the brightest any leaf receives, through its own
+// and its ancestors' links and from the punctual lights and the sky (their share of its
+// emission over its reflectance). What the lightmaps' relative tolerances fall back on in the
+// dark, known before any texel is read.
+double brightestLight(const Solution& solution);
 
 // Fills Empty texels (padding, and texels hidden inside geometry) inside each chart's padded
 // rectangle from their filled 8-neighbours (the average of those filled in the previous pass),

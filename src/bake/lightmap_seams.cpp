@@ -549,7 +549,7 @@ ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout) {
 }
 
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
-                            ParallelRunner& runner, double tolerance) {
+                            ParallelRunner& runner, double tolerance, double dark_light) {
     StitchStats stats;
     if (padding < 1 || lightmaps.images.empty()) {
         lightmaps.stitch = stats;
@@ -598,7 +598,7 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
     if (tolerance > 0.0) {
         double brightest_edge = 0.0;
         for (const DVec3& l : distinct_light) brightest_edge = std::max({brightest_edge, l.x, l.y, l.z});
-        const double dark = kDarkEdge * brightest_edge;
+        const double dark = dark_light >= 0.0 ? dark_light : kDarkEdge * brightest_edge;
         for (size_t span = kMaxEdgeSpan; span > 0; span /= 2) {
             std::vector<size_t> rest;
             for (size_t q = 0; q < found.edges.size(); ++q) {

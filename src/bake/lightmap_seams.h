@@ -59,12 +59,13 @@ DVec3 bilinearLookup(const LightmapImage& image, const DVec2& texel);
 // Fits the texels under the edge and seam lookups (see the top of this file); values are
 // H / pi from `irradiance`, evaluated once per distinct (point, normal). tolerance > 0: an
 // edge sample between two (EdgeSample::span) whose light agrees within that relative
-// tolerance (or 1% of the brightest edge light) takes their mean instead of an evaluation
-// (about one evaluation per four texels of edge where the light is smooth). Groups of charts
+// tolerance (or `dark`, as the texels' evaluateTexelsAdaptive takes it; negative: 1 % of the
+// brightest edge light) takes their mean instead of an evaluation (about one evaluation per
+// four texels of edge where the light is smooth). Groups of charts
 // joined by seams are solved in parallel, each on its own: the result does not depend on the
 // runner's thread count. Needs padding >= 1 (a lookup on an edge reads one
 // padding ring); does nothing otherwise. Fills and returns lightmaps.stitch.
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
-                            ParallelRunner& runner, double tolerance = 0.0);
+                            ParallelRunner& runner, double tolerance = 0.0, double dark = -1.0);
 
 }  // namespace radbake
