@@ -1,6 +1,7 @@
 // bake(): every stage of src/radbake.h in order, in memory. The module boundary of the
 // library: nothing thrown below escapes (reported to Diagnostics instead).
 #include "pipeline/bake.h"
+#include "pipeline/bake_stages.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -51,20 +52,6 @@ LightmapOptions lightmapOptions(const LightmapSettings& settings) {
     return options;
 }
 
-// Each probe writes its own slot, so the values do not depend on the thread count.
-std::vector<DVec3> evaluateProbes(const Solution& solution, const ReadoutOptions& readout,
-                                  const std::vector<Probe>& probes, double metres_per_unit, ParallelRunner& runner,
-                                  Progress& progress) {
-    std::vector<DVec3> irradiance(probes.size(), DVec3(0.0));
-    if (!carriesLight(solution)) return irradiance;
-    std::atomic<size_t> done{0};
-    runner.forEach(probes.size(), 4, [&](size_t i) {
-        irradiance[i] = probeIrradiance(solution, readout, probes[i].position * metres_per_unit, probes[i].normal);
-        progress.update(static_cast<double>(++done) / static_cast<double>(probes.size()));
-    });
-    return irradiance;
-}
-
 void renderPreviews(Bake& out, ParallelRunner& runner, Diagnostics& diagnostics) {
     const Scene& scene = *out.scene;
     const Camera* camera = scene.cameras.empty() ? nullptr : &scene.cameras.front();
@@ -101,10 +88,6 @@ void fillSceneReport(const Scene& scene, Bake& out) {
     report.hard_edge_copies = scene.crease_split.added;
     report.refused_inputs = scene.refused_inputs.size();
     report.probes = out.options.probes ? out.options.probes->size() : 0;
-}
-
-ReadoutReport readoutReport(const ReadoutWork& work) {
-    return {.points = work.points, .rays = work.counts.rays, .form_factors = work.counts.form_factors};
 }
 
 void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& options, double metres_per_unit,
@@ -166,26 +149,48 @@ void solveStages(Bake& out, bool& kept, Progress& progress, Diagnostics& diagnos
     settleStatus(out, progress, diagnostics, saved);
 }
 
-// Every stage after the import; sets out.status.
-void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
+}  // namespace
+
+// Each probe writes its own slot, so the values do not depend on the thread count.
+std::vector<DVec3> evaluateProbes(const Solution& solution, const ReadoutOptions& readout,
+                                  const std::vector<Probe>& probes, double metres_per_unit, ParallelRunner& runner,
+                                  Progress& progress, size_t begin, size_t end) {
+    begin = std::min(begin, probes.size());
+    end = std::clamp(end, begin, probes.size());
+    std::vector<DVec3> irradiance(end - begin, DVec3(0.0));
+    if (!carriesLight(solution)) return irradiance;
+    std::atomic<size_t> done{0};
+    runner.forEach(end - begin, 4, [&](size_t k) {
+        const Probe& probe = probes[begin + k];
+        irradiance[k] = probeIrradiance(solution, readout, probe.position * metres_per_unit, probe.normal);
+        progress.update(static_cast<double>(++done) / static_cast<double>(end - begin));
+    });
+    return irradiance;
+}
+
+ReadoutReport readoutReport(const ReadoutWork& work) {
+    return {.points = work.points, .rays = work.counts.rays, .form_factors = work.counts.form_factors};
+}
+
+bool StageRun::stopped() {
+    if (progress.cancelled()) out.status = BakeStatus::Cancelled;
+    else if (diagnostics.hasErrors()) out.status = BakeStatus::InputError;
+    else return false;
+    return true;
+}
+
+void StageRun::beginPhase(const char* name) {
+    progress.beginPhase(name);
+    checkMemoryBudget(memoryBudgetMegabytes(out.options.solver.max_memory_mb), name);
+}
+
+bool prepareStages(StageRun& run, std::optional<LightmapCharts>& charts) {
+    Bake& out = run.out;
     const Scene& scene = *out.scene;
     BakeOptions& options = out.options;
-    const double metres_per_unit = static_cast<double>(options.import.unit_scale);
-    ParallelRunner runner(options.threading, progress.cancelFlag());
-    const auto stopped = [&] {
-        if (progress.cancelled()) out.status = BakeStatus::Cancelled;
-        else if (diagnostics.hasErrors()) out.status = BakeStatus::InputError;
-        else return false;
-        return true;
-    };
-    out.report.threads = runner.threads();
-    if (!checkBakeable(scene, diagnostics)) return (void)stopped();
-    // One budget for the whole bake: each phase starts within it (the solve checks as it links).
-    const double budget_mb = memoryBudgetMegabytes(options.solver.max_memory_mb);
-    const auto beginPhase = [&](const char* name) {
-        progress.beginPhase(name);
-        checkMemoryBudget(budget_mb, name);
-    };
+    Diagnostics& diagnostics = run.diagnostics;
+    out.report.threads = run.runner.threads();
+    if (!checkBakeable(scene, diagnostics)) return !run.stopped();
     // Every input file is read once: the scene file's own hash is the first input's.
     std::vector<std::string> inputs = scene.input_files;
     const bool source_listed = !inputs.empty() && inputs.front() ==
@@ -204,7 +209,7 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
             continue;
         }
         std::optional<std::string> hash = sha256File(inputs[i], diagnostics);
-        if (!hash) return (void)stopped();
+        if (!hash) return !run.stopped();
         if (i == 0 && !scene.source_path.empty()) out.scene_sha256 = *hash;
         hashes += *hash + "\n";
     }
@@ -218,12 +223,50 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
     if (!options.lightmaps.enabled && options.lightmaps.quantity == LightmapQuantity::Radiance)
         diagnostics.warning({scene.source_path, 0, 0}, "--lightmap-quantity has no effect: the bake has no lightmaps");
     // Before the solve: a lightmap budget error should not cost a solve first.
-    std::optional<LightmapCharts> charts;
     if (options.lightmaps.enabled) {
         charts = chartBakeLightmaps(scene, options, diagnostics);
-        if (!charts) return (void)stopped();
-        options.lightmaps.texels_per_unit = charts->options.texels_per_metre * metres_per_unit;
+        if (!charts) return !run.stopped();
+        options.lightmaps.texels_per_unit =
+            charts->options.texels_per_metre * static_cast<double>(options.import.unit_scale);
     }
+    return !run.stopped();
+}
+
+ReadoutOptions readoutOptionsOf(const BakeOptions& options) {
+    // --texel-tolerance 0 (the reference preset) reads every vertex and texel with the exhaustive gather.
+    ReadoutOptions readout = options.readout;
+    if (!(options.lightmaps.texel_tolerance > 0.0)) readout.gather = GatherMode::Exhaustive;
+    return readout;
+}
+
+void finishStages(StageRun& run) {
+    Bake& out = run.out;
+    if (out.options.preview) {
+        run.beginPhase("preview");
+        renderPreviews(out, run.runner, run.diagnostics);
+        if (run.stopped()) return;
+    }
+    run.progress.endPhase();
+    out.report.phases = run.progress.phaseSeconds();
+    out.report.seconds = run.progress.totalSeconds();
+    out.report.peak_rss_mb = peakRssMegabytes();
+    out.report.warnings = run.diagnostics.warningCount();
+    out.status = BakeStatus::Ok;
+}
+
+namespace {
+
+// Every stage after the import; sets out.status.
+void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
+    StageRun run{out, ParallelRunner(out.options.threading, progress.cancelFlag()), progress, diagnostics};
+    ParallelRunner& runner = run.runner;
+    const auto stopped = [&] { return run.stopped(); };
+    const auto beginPhase = [&](const char* name) { run.beginPhase(name); };
+    std::optional<LightmapCharts> charts;
+    if (!prepareStages(run, charts)) return;
+    const Scene& scene = *out.scene;
+    BakeOptions& options = out.options;
+    const double metres_per_unit = static_cast<double>(options.import.unit_scale);
 
     std::string solution_key;
     if (!options.solution_file.empty()) {
@@ -243,13 +286,10 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
 
     const RealtimeEmissionLeftOut realtime_emission(*out.solution);  // after the solution is saved
     beginPhase("vertices");
-    // --texel-tolerance 0 (the reference preset) reads every vertex and texel with the exhaustive gather.
-    ReadoutOptions readout = options.readout;
-    if (!(options.lightmaps.texel_tolerance > 0.0)) readout.gather = GatherMode::Exhaustive;
+    const ReadoutOptions readout = readoutOptionsOf(options);
     out.vertices = bakeVertices(scene, *out.solution, readout, runner, &progress);
     if (stopped()) return;
     out.report.vertex_readout = readoutReport(out.vertices.work);
-
     if (charts) {
         beginPhase("lightmaps");
         const LightmapOptions used = charts->options;
@@ -283,23 +323,14 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         out.lightmaps = std::move(baked);
     }
 
+
     if (options.probes) {
         beginPhase("probes");
         out.probe_irradiance =
-            evaluateProbes(*out.solution, readout, *options.probes, metres_per_unit, runner, progress);
+            evaluateProbes(*out.solution, readout, *options.probes, metres_per_unit, runner, progress, 0, SIZE_MAX);
         if (stopped()) return;
     }
-    if (options.preview) {
-        beginPhase("preview");
-        renderPreviews(out, runner, diagnostics);
-        if (stopped()) return;
-    }
-    progress.endPhase();
-    out.report.phases = progress.phaseSeconds();
-    out.report.seconds = progress.totalSeconds();
-    out.report.peak_rss_mb = peakRssMegabytes();
-    out.report.warnings = diagnostics.warningCount();
-    out.status = BakeStatus::Ok;
+    finishStages(run);
 }
 
 // The located error for an allocation failure or a budget overrun at the library's boundary.
@@ -317,8 +348,6 @@ void reportMemory(const std::string& scene_path, const std::string& phase, const
                   during.c_str(), over->used_mb, over->budget_mb);
     diagnostics.error({scene_path, 0, 0}, message);
 }
-
-using Stages = std::function<void(Bake&, Progress&, Diagnostics&)>;
 
 Bake bakeOwned(std::unique_ptr<Scene> scene, const BakeOptions& options, Progress& progress,
                Diagnostics& diagnostics, const Stages& stages) {
@@ -387,8 +416,6 @@ const char* toString(BakeStatus status) {
     return "?";
 }
 
-namespace {
-
 // Reads the scene at `path` (options.import) and runs `stages` on it.
 Bake importAndRun(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics,
                   const Stages& stages) {
@@ -404,8 +431,6 @@ Bake importAndRun(const std::string& path, const BakeOptions& options, Progress&
     }
     return bakeScene(std::move(*scene), options, progress, diagnostics, stages);
 }
-
-}  // namespace
 
 Bake bake(const std::string& path, const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
     return importAndRun(path, options, progress, diagnostics, bakeStages);

@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/binary_records.h"
 #include "core/regular_file.h"
 #include "export/hash.h"
 #include "export/output_transaction.h"
@@ -19,48 +20,6 @@ namespace radbake {
 namespace {
 
 constexpr char kMagic[] = "radbake solution 2\n";
-
-struct Writer {
-    std::string bytes;
-    template <class T>
-    void value(const T& v) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
-    }
-    template <class T>
-    void array(const std::vector<T>& v) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        value(static_cast<uint64_t>(v.size()));
-        bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-    }
-};
-
-struct Reader {
-    const std::string& bytes;
-    size_t at = 0;
-    bool ok = true;
-    template <class T>
-    void value(T& v) {
-        if (!ok || bytes.size() - at < sizeof v) {
-            ok = false;
-            return;
-        }
-        std::memcpy(&v, bytes.data() + at, sizeof v);
-        at += sizeof v;
-    }
-    template <class T>
-    void array(std::vector<T>& v) {
-        uint64_t n = 0;
-        value(n);
-        if (!ok || n > (bytes.size() - at) / sizeof(T)) {
-            ok = false;
-            return;
-        }
-        v.resize(n);
-        std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
-        at += n * sizeof(T);
-    }
-};
 
 // Every field that changes the solve, one by one (never a struct's padding).
 struct KeyWriter {

@@ -21,6 +21,14 @@ struct ProbeCounters {
 struct ReadoutWork {
     size_t points = 0;
     ProbeCounters counts;
+    // Shards' work adds up: each point's work is its own.
+    ReadoutWork& operator+=(const ReadoutWork& o) {
+        points += o.points;
+        counts.rays += o.counts.rays;
+        counts.form_factors += o.counts.form_factors;
+        counts.pieces += o.counts.pieces;
+        return *this;
+    }
 };
 
 // Irradiance H (W/m^2, DESIGN.md section 2) arriving at `point` on a surface facing `normal`

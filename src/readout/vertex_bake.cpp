@@ -7,7 +7,9 @@
 #include <atomic>
 #include <limits>
 #include <map>
+#include <cstdint>
 #include <optional>
+#include <span>
 
 #include "readout/reconstruct.h"
 #include "radiosity/solution.h"
@@ -130,18 +132,23 @@ void correctEdges(const Scene& scene, const LinkReconstruction& links, WeldedPoi
 
 }  // namespace
 
-VertexBake bakeVertices(const Scene& scene, const Solution& solution, const ReadoutOptions& options,
-                        ParallelRunner& runner, Progress* progress) {
-    VertexBake bake;
-    bake.values.resize(scene.meshes.size());
-    // Incident faces of every vertex, and the welded point each vertex is at.
-    std::vector<std::vector<std::vector<Incident>>> incident(scene.meshes.size());
-    std::vector<std::vector<uint32_t>> point_of(scene.meshes.size());
-    std::map<std::array<float, 3>, uint32_t> point_ids;
+namespace {
+
+// Every vertex's incident faces, and the welded point each is at.
+struct Welded {
+    std::vector<std::vector<std::vector<Incident>>> incident;  // [mesh][vertex]
+    std::vector<std::vector<uint32_t>> point_of;              // [mesh][vertex]: kNoElement when it has no face
     std::vector<WeldedPoint> points;
+};
+
+Welded weldVertices(const Scene& scene) {
+    Welded w;
+    w.incident.resize(scene.meshes.size());
+    w.point_of.resize(scene.meshes.size());
+    std::map<std::array<float, 3>, uint32_t> point_ids;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
-        incident[m].resize(mesh.positions.size());
+        w.incident[m].resize(mesh.positions.size());
         for (size_t t = 0; t < mesh.triangles.size(); ++t) {
             const UVec3& tri = mesh.triangles[t];
             if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() || tri.z >= mesh.positions.size())
@@ -151,48 +158,97 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, const Read
             const double len = glm::length(n);
             if (!(len > 0.0)) continue;
             for (uint32_t v : {tri.x, tri.y, tri.z})
-                incident[m][v].push_back({n / len, 0.5 * len, static_cast<uint32_t>(m), static_cast<uint32_t>(t)});
+                w.incident[m][v].push_back({n / len, 0.5 * len, static_cast<uint32_t>(m), static_cast<uint32_t>(t)});
         }
-        point_of[m].assign(mesh.positions.size(), kNoElement);
+        w.point_of[m].assign(mesh.positions.size(), kNoElement);
         for (size_t v = 0; v < mesh.positions.size(); ++v) {
-            if (incident[m][v].empty()) continue;
+            if (w.incident[m][v].empty()) continue;
             const Vec3& p = mesh.positions[v];
-            const auto [it, added] = point_ids.emplace(std::array<float, 3>{p.x, p.y, p.z}, uint32_t(points.size()));
-            if (added) points.push_back({DVec3(p), {}, {}, {}});
-            WeldedPoint& point = points[it->second];
-            point.faces.insert(point.faces.end(), incident[m][v].begin(), incident[m][v].end());
-            point_of[m][v] = it->second;
+            const auto [it, added] = point_ids.emplace(std::array<float, 3>{p.x, p.y, p.z}, uint32_t(w.points.size()));
+            if (added) w.points.push_back({DVec3(p), {}, {}, {}});
+            WeldedPoint& point = w.points[it->second];
+            point.faces.insert(point.faces.end(), w.incident[m][v].begin(), w.incident[m][v].end());
+            w.point_of[m][v] = it->second;
         }
     }
+    for (WeldedPoint& point : w.points) point.groups = groupByNormal(point.faces);
+    return w;
+}
+
+}  // namespace
+
+std::vector<double> vertexPointCosts(const Scene& scene) {
+    const Welded w = weldVertices(scene);
+    std::vector<double> costs;
+    costs.reserve(w.points.size());
+    for (const WeldedPoint& point : w.points) costs.push_back(static_cast<double>(point.groups.size()));
+    return costs;
+}
+
+VertexPointLight readVertexPoints(const Scene& scene, const Solution& solution, const ReadoutOptions& options,
+                                  ParallelRunner& runner, size_t begin, size_t end, Progress* progress) {
+    Welded w = weldVertices(scene);
+    VertexPointLight out;
+    out.begin = std::min(begin, w.points.size());
+    out.end = std::clamp(end, out.begin, w.points.size());
     std::optional<LinkReconstruction> links;
     const bool lit = carriesLight(solution);
     if (lit && options.gather == GatherMode::Links) links.emplace(solution, options, runner);
     std::atomic<size_t> done{0};
+    const size_t count = out.end - out.begin;
     // Each welded point writes its own slot: the result does not depend on the thread count.
-    runner.forRanges(points.size(), 16, [&](size_t begin, size_t end) {
-        for (size_t k = begin; k < end; ++k) {
-            WeldedPoint& point = points[k];
-            point.groups = groupByNormal(point.faces);
+    runner.forRanges(count, 16, [&](size_t from, size_t to) {
+        for (size_t k = out.begin + from; k < out.begin + to; ++k) {
+            WeldedPoint& point = w.points[k];
             for (const Incident& g : point.groups)
                 point.h.push_back(!lit   ? DVec3(0.0)
                                   : links ? irradianceAt(solution, *links, point, g)
                                           : surfaceIrradiance(solution, options, point.p, g.normal, g.mesh, g.triangle));
             if (links && options.edge_correction != EdgeCorrection::Off) correctEdges(scene, *links, point);
         }
-        if (progress) progress->update(static_cast<double>(done += end - begin) / static_cast<double>(points.size()));
+        if (progress) progress->update(static_cast<double>(done += to - from) / static_cast<double>(count));
     });
-    if (runner.cancelled()) return bake;
-    if (links) bake.work = links->work();
+    if (runner.cancelled()) return out;
+    if (links) out.work = links->work();
+    for (size_t k = out.begin; k < out.end; ++k) {
+        out.groups.push_back(static_cast<uint32_t>(w.points[k].h.size()));
+        out.h.insert(out.h.end(), w.points[k].h.begin(), w.points[k].h.end());
+    }
+    return out;
+}
+
+std::optional<VertexBake> assembleVertices(const Scene& scene, std::span<const VertexPointLight> parts) {
+    Welded w = weldVertices(scene);
+    VertexBake bake;
+    size_t next = 0;  // the parts cover the points in order, each once
+    for (const VertexPointLight& part : parts) {
+        if (part.begin != next || part.end < part.begin || part.end > w.points.size() ||
+            part.groups.size() != part.end - part.begin)
+            return std::nullopt;
+        size_t at = 0;
+        for (size_t k = part.begin; k < part.end; ++k) {
+            const uint32_t groups = part.groups[k - part.begin];
+            if (groups != w.points[k].groups.size() || at + groups > part.h.size()) return std::nullopt;
+            w.points[k].h.assign(part.h.begin() + static_cast<std::ptrdiff_t>(at),
+                                 part.h.begin() + static_cast<std::ptrdiff_t>(at + groups));
+            at += groups;
+        }
+        if (at != part.h.size()) return std::nullopt;
+        next = part.end;
+        bake.work += part.work;
+    }
+    if (next != w.points.size()) return std::nullopt;
     // A vertex: its own faces' normal groups, area-weighted, each read from its welded group.
+    bake.values.resize(scene.meshes.size());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         std::vector<Vec3>& values = bake.values[m];
         values.assign(scene.meshes[m].positions.size(), Vec3(0.0f));
         for (size_t v = 0; v < values.size(); ++v) {
-            if (point_of[m][v] == kNoElement) continue;
-            const WeldedPoint& point = points[point_of[m][v]];
+            if (w.point_of[m][v] == kNoElement) continue;
+            const WeldedPoint& point = w.points[w.point_of[m][v]];
             DVec3 sum(0.0);
             double weight = 0.0;
-            for (const Incident& own : groupByNormal(incident[m][v])) {
+            for (const Incident& own : groupByNormal(w.incident[m][v])) {
                 size_t g = 0;
                 while (g + 1 < point.groups.size() && !(glm::dot(point.groups[g].normal, own.normal) > 1.0 - kSameNormal))
                     ++g;
@@ -203,6 +259,13 @@ VertexBake bakeVertices(const Scene& scene, const Solution& solution, const Read
         }
     }
     return bake;
+}
+
+VertexBake bakeVertices(const Scene& scene, const Solution& solution, const ReadoutOptions& options,
+                        ParallelRunner& runner, Progress* progress) {
+    const VertexPointLight all = readVertexPoints(scene, solution, options, runner, 0, SIZE_MAX, progress);
+    if (runner.cancelled()) return VertexBake{};
+    return *assembleVertices(scene, std::span<const VertexPointLight>(&all, 1));
 }
 
 }  // namespace radbake
