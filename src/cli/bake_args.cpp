@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <new>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "cli/option_checks.h"
 #include "core/memory.h"
 #include "core/regular_file.h"
+#include "export/output_transaction.h"
 
 namespace radbake::cli {
 namespace {
@@ -145,6 +147,57 @@ void runGuarded(const std::string& scene, const char* doing, int& result, const 
         result = kExitInputError;
     }
 }
+
+int runBakeInto(const BakeArgs& args, const MakeBake& make, const std::vector<std::string>& extra_inputs) {
+    Progress progress(progressStyleOf(args.quiet));
+    Diagnostics diagnostics;
+    routeDiagnostics(diagnostics, progress);
+    // An interrupted content build leaves no temporary directory behind.
+    cleanUpStagingOnSignals();
+
+    // Refused before the bake, which would otherwise write every other output first.
+    if (!depfileWritable(args, diagnostics)) return kExitInputError;
+    // The folder is locked (and checked to be this scene's) before any work: a second bake
+    // into it is refused at once, not after its solve.
+    const std::filesystem::path out_dir = args.out_dir.empty()
+                                              ? std::filesystem::path("baked") / sceneNameOf(args.scene)
+                                              : std::filesystem::path(args.out_dir);
+    OutputTransaction transaction(out_dir);
+    if (!transaction.begin(diagnostics) || !claimOutputFolder(transaction, sceneNameOf(args.scene), diagnostics))
+        return kExitInputError;
+    BakeOptions options = bakeOptions(args);
+    if (!readBakeSideFiles(args, options, diagnostics)) return kExitInputError;
+    const Bake result = make(options, progress, diagnostics);
+    if (!result.ok()) return kExitInputError;
+    WrittenBake written;
+    if (!commitBake(result, transaction, diagnostics, &written) || diagnostics.hasErrors()) return kExitInputError;
+    if (!args.depfile.empty()) {
+        std::vector<std::string> targets, inputs = result.scene->input_files;
+        inputs.insert(inputs.end(), extra_inputs.begin(), extra_inputs.end());
+        for (const std::string& file : written.files) targets.push_back((out_dir / file).lexically_normal().string());
+        if (!args.probes.empty()) inputs.push_back(args.probes);
+        if (!args.lightmap_scales.empty()) inputs.push_back(args.lightmap_scales);
+        if (!args.realtime_lights.empty()) inputs.push_back(args.realtime_lights);
+        if (!writeDepfile(args.depfile, targets, inputs, diagnostics)) return kExitInputError;
+    }
+
+    const SolveStats& s = result.report.solve;
+    std::string lightmaps;
+    if (result.report.lightmaps.baked) {
+        char buffer[128];
+        std::snprintf(buffer, sizeof buffer, ", %zu lightmap%s (%.0f%% occupied)", result.report.lightmaps.atlases,
+                      result.report.lightmaps.atlases == 1 ? "" : "s", 100.0 * result.report.lightmaps.occupancy);
+        lightmaps = buffer;
+    }
+    std::printf("radbake: baked %s in %.2f s: %zu elements, %zu links (%zu occluded), %d iterations%s%s, "
+                "%d warning%s -> %s (%zu of %zu files changed)\n",
+                args.scene.c_str(), progress.totalSeconds(), s.elements, s.links, s.occluded_links, s.iterations,
+                s.converged ? "" : " (not converged)", lightmaps.c_str(), diagnostics.warningCount(),
+                diagnostics.warningCount() == 1 ? "" : "s", out_dir.lexically_normal().string().c_str(), written.changed,
+                written.files.size());
+    return kExitOk;
+}
+
 
 void addBakeOptions(CLI::App& cmd, BakeArgs& args) {
     cmd.add_option("--quality", args.quality_name, "Preset for the knobs below")

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/progress.h"
 #include "radbake.h"
@@ -66,6 +67,14 @@ ProgressStyle progressStyleOf(bool quiet);
 
 // Diagnostics go to stderr; notes only when the run is interactive (not quiet, a terminal).
 void routeDiagnostics(Diagnostics& diagnostics, Progress& progress);
+
+// What writes a bake folder: a bake made from the options (a whole bake, or merged shards).
+using MakeBake = std::function<Bake(const BakeOptions& options, Progress& progress, Diagnostics& diagnostics)>;
+// `radbake bake`'s run around `make`: the output folder (args.out_dir, default baked/<scene
+// name>) locked and claimed before any work, the side files read, the bake committed all or
+// nothing, the depfile (the bake's inputs, then `extra_inputs`) and the one-line summary. The
+// exit code.
+int runBakeInto(const BakeArgs& args, const MakeBake& make, const std::vector<std::string>& extra_inputs = {});
 
 // The program's outer boundary for a command on `scene`: nothing escapes; unwinding abandons
 // the outputs. Sets `result` to run()'s exit code, or 1 after printing what was thrown.

@@ -17,6 +17,7 @@ void printDiagnosticsToStderr(Diagnostics& diagnostics);
 void addInfoCommand(CLI::App& app, int& result);
 void addBakeCommand(CLI::App& app, int& result);
 void addSolveCommand(CLI::App& app, int& result);
+void addShardCommands(CLI::App& app, int& result);  // gather, merge
 void addCompareCommand(CLI::App& app, int& result);
 
 }  // namespace radbake::cli

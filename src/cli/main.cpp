@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     addInfoCommand(app, result);
     addBakeCommand(app, result);
     addSolveCommand(app, result);
+    addShardCommands(app, result);
     addCompareCommand(app, result);
 
     try {

@@ -1,0 +1,243 @@
+#include "pipeline/shards.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "core/binary_records.h"
+#include "core/regular_file.h"
+#include "pipeline/bake_stages.h"
+#include "pipeline/solution_cache.h"
+#include "readout/realtime_emission.h"
+
+namespace radbake {
+namespace {
+
+constexpr char kPartMagic[] = "radbake read-out part 1\n";
+
+std::string partName(const ReadoutPart& part) {
+    return "shard " + std::to_string(part.shard) + " of " + std::to_string(part.shards);
+}
+
+void writeString(Writer& w, const std::string& s) { w.array(std::vector<char>(s.begin(), s.end())); }
+void readString(Reader& r, std::string& s) {
+    std::vector<char> chars;
+    r.array(chars);
+    s.assign(chars.begin(), chars.end());
+}
+
+// The parts in shard order, checked to be shards 1..N of one read-out of this scene and
+// solution; false after reporting, naming the part at fault.
+bool checkParts(const std::vector<ReadoutPart>& parts, const std::string& inputs_sha256, const std::string& key,
+                const SourceLocation& scene, Diagnostics& diagnostics) {
+    if (parts.empty()) {
+        diagnostics.error(scene, "no read-out part to merge");
+        return false;
+    }
+    const uint32_t shards = parts.front().shards;
+    bool ok = true;
+    for (const ReadoutPart& part : parts) {
+        const SourceLocation where{part.folder, 0, 0};
+        if (part.shards != shards) {
+            diagnostics.error(where, "is " + partName(part) + ", but " + parts.front().folder + " is of " +
+                                         std::to_string(shards) + ": parts of one read-out only");
+            ok = false;
+        } else if (part.inputs_sha256 != inputs_sha256) {
+            diagnostics.error(where, "was read from other scene files than " + scene.file + " holds now");
+            ok = false;
+        } else if (part.solution_key != key) {
+            diagnostics.error(where, "was read from another solution (other solver settings or another scene)");
+            ok = false;
+        }
+    }
+    if (!ok) return false;
+    for (uint32_t k = 1; k <= shards; ++k) {
+        const auto count = std::count_if(parts.begin(), parts.end(), [&](const ReadoutPart& p) { return p.shard == k; });
+        if (count == 1) continue;
+        diagnostics.error(scene, (count == 0 ? "shard " : "more than one part of shard ") + std::to_string(k) + " of " +
+                                     std::to_string(shards) + (count == 0 ? " is missing" : ""));
+        ok = false;
+    }
+    return ok;
+}
+
+}  // namespace
+
+std::pair<size_t, size_t> shardRange(const std::vector<double>& costs, uint32_t shard, uint32_t shards) {
+    shards = std::max<uint32_t>(shards, 1);
+    shard = std::clamp<uint32_t>(shard, 1, shards);
+    const double total = std::accumulate(costs.begin(), costs.end(), 0.0);
+    // The first item whose cost before it reaches k / N of the total.
+    const auto boundary = [&](uint32_t k) {
+        if (k == 0) return size_t{0};
+        if (k >= shards) return costs.size();
+        const double target = total * static_cast<double>(k) / static_cast<double>(shards);
+        double before = 0.0;
+        for (size_t i = 0; i < costs.size(); ++i) {
+            if (before >= target) return i;
+            before += costs[i];
+        }
+        return costs.size();
+    };
+    return {boundary(shard - 1), boundary(shard)};
+}
+
+std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOptions& options, uint32_t shard,
+                                       uint32_t shards, Progress& progress, Diagnostics& diagnostics) {
+    ReadoutPart part;
+    part.shard = shard;
+    part.shards = shards;
+    part.scene = path;
+    const Stages stages = [&](Bake& out, Progress& p, Diagnostics& d) {
+        StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
+        std::optional<LightmapCharts> charts;
+        if (!prepareStages(run, charts)) return;
+        const Scene& scene = *out.scene;
+        if (charts) {
+            d.error({path, 0, 0}, "read-out shards of a bake with lightmaps are not supported yet: "
+                                  "pass --no-lightmaps to gather and merge");
+            return (void)run.stopped();
+        }
+        part.solution_key = solutionKey(scene, out.options.solver);
+        part.inputs_sha256 = out.inputs_sha256;
+        const std::string& file = out.options.solution_file;
+        if (!solutionFileHolds(part.solution_key, file)) {
+            d.error({file, 0, 0}, "does not hold the solution of " + path +
+                                      " for these solver settings (radbake solve with the same options writes it)");
+            return (void)run.stopped();
+        }
+        run.beginPhase("saved solution");
+        out.solution = loadSolution(scene, out.options.solver, part.solution_key, file, run.runner.threads(), d);
+        if (run.stopped()) return;
+        if (!out.solution) {
+            d.error({file, 0, 0}, "cannot read the solution");
+            return (void)run.stopped();
+        }
+        part.solve = out.solution->stats;
+        const RealtimeEmissionLeftOut realtime_emission(*out.solution);
+        const ReadoutOptions readout = readoutOptionsOf(out.options);
+        run.beginPhase("vertices");
+        const auto [begin, end] = shardRange(vertexPointCosts(scene), shard, shards);
+        part.vertices = readVertexPoints(scene, *out.solution, readout, run.runner, begin, end, &p);
+        if (run.stopped()) return;
+        if (out.options.probes) {
+            run.beginPhase("probes");
+            const std::vector<double> each(out.options.probes->size(), 1.0);
+            const auto [probe_begin, probe_end] = shardRange(each, shard, shards);
+            part.probe_begin = probe_begin;
+            part.probe_end = probe_end;
+            part.probes = evaluateProbes(*out.solution, readout, *out.options.probes,
+                                         static_cast<double>(out.options.import.unit_scale), run.runner, p, probe_begin,
+                                         probe_end);
+            if (run.stopped()) return;
+        }
+        p.endPhase();
+        out.status = BakeStatus::Ok;
+    };
+    const Bake done = importAndRun(path, options, progress, diagnostics, stages);
+    if (!done.ok()) return std::nullopt;
+    return part;
+}
+
+Bake mergeParts(const std::string& path, const BakeOptions& options, const std::vector<ReadoutPart>& given,
+                Progress& progress, Diagnostics& diagnostics) {
+    std::vector<ReadoutPart> parts = given;
+    std::stable_sort(parts.begin(), parts.end(), [](const ReadoutPart& a, const ReadoutPart& b) { return a.shard < b.shard; });
+    const Stages stages = [&](Bake& out, Progress& p, Diagnostics& d) {
+        StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
+        std::optional<LightmapCharts> charts;
+        if (!prepareStages(run, charts)) return;
+        const Scene& scene = *out.scene;
+        if (charts) {
+            d.error({path, 0, 0}, "read-out shards of a bake with lightmaps are not supported yet: "
+                                  "pass --no-lightmaps to gather and merge");
+            return (void)run.stopped();
+        }
+        if (!checkParts(parts, out.inputs_sha256, solutionKey(scene, out.options.solver), {path, 0, 0}, d))
+            return (void)run.stopped();
+        out.report.options = out.options.solver;
+        out.report.solve = parts.front().solve;
+        run.beginPhase("merge");
+        std::vector<VertexPointLight> vertices;
+        for (const ReadoutPart& part : parts) vertices.push_back(part.vertices);
+        std::optional<VertexBake> assembled = assembleVertices(scene, vertices);
+        const size_t probe_count = out.options.probes ? out.options.probes->size() : 0;
+        size_t next_probe = 0;
+        for (const ReadoutPart& part : parts) {
+            if (part.probe_begin != next_probe || part.probe_end - part.probe_begin != part.probes.size()) break;
+            out.probe_irradiance.insert(out.probe_irradiance.end(), part.probes.begin(), part.probes.end());
+            next_probe = part.probe_end;
+        }
+        if (!assembled || next_probe != probe_count || out.probe_irradiance.size() != probe_count) {
+            d.error({path, 0, 0}, "the parts do not cover the scene's vertices and probes once each "
+                                  "(read with other options than the merge's?)");
+            return (void)run.stopped();
+        }
+        out.vertices = std::move(*assembled);
+        out.report.vertex_readout = readoutReport(out.vertices.work);
+        finishStages(run);
+    };
+    return importAndRun(path, options, progress, diagnostics, stages);
+}
+
+void stageReadoutPart(const ReadoutPart& part, OutputTransaction& transaction, Diagnostics& diagnostics) {
+    Writer w;
+    w.bytes = kPartMagic;
+    w.value(part.shard);
+    w.value(part.shards);
+    writeString(w, part.arguments);
+    writeString(w, part.scene);
+    writeString(w, part.inputs_sha256);
+    writeString(w, part.solution_key);
+    w.value(part.solve);
+    w.value(static_cast<uint64_t>(part.vertices.begin));
+    w.value(static_cast<uint64_t>(part.vertices.end));
+    w.array(part.vertices.groups);
+    w.array(part.vertices.h);
+    w.value(part.vertices.work);
+    w.value(part.probe_begin);
+    w.value(part.probe_end);
+    w.array(part.probes);
+    writeFileBytes(transaction.stage(kPartFile), w.bytes, diagnostics);
+}
+
+std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, Diagnostics& diagnostics) {
+    const std::filesystem::path file = folder / kPartFile;
+    std::string why;
+    const std::optional<std::string> bytes = readRegularFile(file.string(), why);
+    if (!bytes) {
+        diagnostics.error({folder.string(), 0, 0}, "is not a read-out part (" + file.filename().string() + ": " + why + ")");
+        return std::nullopt;
+    }
+    if (bytes->compare(0, sizeof kPartMagic - 1, kPartMagic) != 0) {
+        diagnostics.error({file.string(), 0, 0}, "is not a read-out part of this radbake");
+        return std::nullopt;
+    }
+    ReadoutPart part;
+    part.folder = folder.string();
+    Reader r{*bytes, sizeof kPartMagic - 1};
+    uint64_t begin = 0, end = 0;
+    r.value(part.shard);
+    r.value(part.shards);
+    readString(r, part.arguments);
+    readString(r, part.scene);
+    readString(r, part.inputs_sha256);
+    readString(r, part.solution_key);
+    r.value(part.solve);
+    r.value(begin);
+    r.value(end);
+    r.array(part.vertices.groups);
+    r.array(part.vertices.h);
+    r.value(part.vertices.work);
+    r.value(part.probe_begin);
+    r.value(part.probe_end);
+    r.array(part.probes);
+    part.vertices.begin = begin;
+    part.vertices.end = end;
+    if (!r.ok || r.at != bytes->size() || part.shard < 1 || part.shard > part.shards) {
+        diagnostics.error({file.string(), 0, 0}, "the read-out part is damaged");
+        return std::nullopt;
+    }
+    return part;
+}
+
+}  // namespace radbake
