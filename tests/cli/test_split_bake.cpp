@@ -98,3 +98,102 @@ TEST_CASE("radbake solve: --solution is required, and one naming a directory is 
     CHECK(refused.output.find("radbake: solved") == std::string::npos);
     CHECK(fs::is_directory(tmp.path / "dir.sol"));
 }
+
+namespace {
+
+// `radbake solve`, N `radbake gather` shards and `radbake merge` of a shipped scene against one
+// `radbake bake` with the same options: every output but timings.json the same bytes.
+void checkShardsMergeToOneBake(const std::string& scene_name, const std::string& options) {
+    CAPTURE(scene_name);
+    TempDir tmp;
+    const fs::path root = fs::path(RADBAKE_SOURCE_DIR) / "scenes";
+    const std::string scene = quote(root / (scene_name + ".wrl"));
+    const std::string common = " -q " + options + " --probes " + quote(root / (scene_name + ".probes"));
+    const fs::path solution = tmp.path / "scene.sol";
+    REQUIRE(runRadbake("solve " + scene + common + " --solution " + quote(solution)).exit_code == 0);
+    REQUIRE(runRadbake("bake " + scene + common + " -o " + quote(tmp.path / "whole")).exit_code == 0);
+    const auto whole = outputsOf(tmp.path / "whole");
+    for (const int shards : {1, 3, 7}) {
+        CAPTURE(shards);
+        std::string parts;
+        for (int k = shards; k >= 1; --k) {  // any order
+            const fs::path part = tmp.path / ("part" + std::to_string(shards) + "_" + std::to_string(k));
+            const RunResult gathered = runRadbake("gather " + scene + common + " --solution " + quote(solution) +
+                                                  " --shard " + std::to_string(k) + "/" + std::to_string(shards) +
+                                                  " --threads 1 -o " + quote(part));
+            INFO(gathered.output);
+            REQUIRE(gathered.exit_code == 0);
+            parts += " " + quote(part);
+        }
+        const fs::path merged = tmp.path / ("merged" + std::to_string(shards));
+        const RunResult run = runRadbake("merge" + parts + " -q -o " + quote(merged));
+        INFO(run.output);
+        REQUIRE(run.exit_code == 0);
+        const auto got = outputsOf(merged);
+        REQUIRE(got.size() == whole.size());
+        for (size_t i = 0; i < got.size(); ++i) {
+            CAPTURE(got[i].first);
+            CHECK(got[i].first == whole[i].first);
+            CHECK(got[i].second == whole[i].second);
+        }
+    }
+}
+
+}  // namespace
+
+TEST_CASE("solve, gather 1, 3 or 7 shards and merge: the bytes of one bake (vertices and probes)") {
+    checkShardsMergeToOneBake("cornell_box", "--quality draft --no-lightmaps");
+    checkShardsMergeToOneBake("paper/duplex", "--quality draft --no-lightmaps");
+}
+
+TEST_CASE("a shard fed another solution, a merge missing a part or given a foreign one: refused by name, nothing written") {
+    TempDir tmp;
+    writeText(tmp.path / "lit.wrl", kLitRoom);
+    const std::string scene = quote(tmp.path / "lit.wrl");
+    const std::string draft = " -q --quality draft --no-lightmaps";
+    const fs::path solution = tmp.path / "lit.sol";
+    REQUIRE(runRadbake("solve " + scene + draft + " --solution " + quote(solution)).exit_code == 0);
+    const auto gather = [&](const std::string& options, const std::string& shard, const std::string& part) {
+        return runRadbake("gather " + scene + options + " --solution " + quote(solution) + " --shard " + shard + " -o " +
+                          quote(tmp.path / part));
+    };
+
+    // Other solver settings than the solution's: a located error, no part folder.
+    const RunResult wrong = gather(" -q --quality medium --no-lightmaps", "1/2", "wrong");
+    CHECK(wrong.exit_code == 1);
+    CHECK(wrong.output.find(solution.string() + ": error: does not hold the solution of") != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp.path / "wrong"));
+    // Not K/N: a bad command line.
+    CHECK(gather(draft, "3/2", "bad").exit_code == 2);
+    CHECK(gather(draft, "0/2", "bad").exit_code == 2);
+    // Lightmaps cannot be split yet: said so.
+    const RunResult lightmaps = gather(" -q --quality draft", "1/2", "lm");
+    CHECK(lightmaps.exit_code == 1);
+    CHECK(lightmaps.output.find("not supported yet") != std::string::npos);
+
+    REQUIRE(gather(draft, "1/2", "p1").exit_code == 0);
+    REQUIRE(gather(draft, "2/2", "p2").exit_code == 0);
+    REQUIRE(runRadbake("solve " + scene + " -q --quality draft --error-threshold 0.5 --solution " + quote(tmp.path / "other.sol")).exit_code == 0);
+    REQUIRE(runRadbake("gather " + scene + " -q --quality draft --error-threshold 0.5 --no-lightmaps --solution " +
+                       quote(tmp.path / "other.sol") + " --shard 2/2 -o " + quote(tmp.path / "foreign"))
+                .exit_code == 0);
+    const std::string out = " -o " + quote(tmp.path / "out");
+    const RunResult missing = runRadbake("merge " + quote(tmp.path / "p1") + out);
+    CHECK(missing.exit_code == 1);
+    CHECK(missing.output.find("shard 2 of 2 is missing") != std::string::npos);
+    const RunResult foreign = runRadbake("merge " + quote(tmp.path / "p1") + " " + quote(tmp.path / "foreign") + out);
+    CHECK(foreign.exit_code == 1);
+    CHECK(foreign.output.find((tmp.path / "foreign").string() + ": error: was gathered with another scene or other options") !=
+          std::string::npos);
+    const RunResult twice = runRadbake("merge " + quote(tmp.path / "p1") + " " + quote(tmp.path / "p1") + out);
+    CHECK(twice.exit_code == 1);
+    CHECK(twice.output.find("more than one part of shard 1 of 2") != std::string::npos);
+    const RunResult not_a_part = runRadbake("merge " + quote(tmp.path / "p1") + " " + quote(tmp.path) + out);
+    CHECK(not_a_part.exit_code == 1);
+    CHECK(not_a_part.output.find(tmp.path.string() + ": error: is not a read-out part") != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp.path / "out"));
+    const RunResult merged = runRadbake("merge " + quote(tmp.path / "p2") + " " + quote(tmp.path / "p1") + out);
+    INFO(merged.output);
+    CHECK(merged.exit_code == 0);
+    CHECK(fs::exists(tmp.path / "out" / "lit.glb"));
+}
