@@ -60,6 +60,16 @@ bool checkParts(const std::vector<ReadoutPart>& parts, const std::string& inputs
     return ok;
 }
 
+// prepareStages for a gather or a merge; false when stopped.
+bool prepareShardStep(StageRun& run, const std::string& path) {
+    std::optional<LightmapCharts> charts;
+    if (!prepareStages(run, charts)) return false;
+    if (!charts) return true;
+    run.diagnostics.error({path, 0, 0}, "read-out shards of a bake with lightmaps are not supported yet: "
+                                        "pass --no-lightmaps to gather and merge");
+    return !run.stopped();
+}
+
 }  // namespace
 
 std::pair<size_t, size_t> shardRange(const std::vector<double>& costs, uint32_t shard, uint32_t shards) {
@@ -89,14 +99,8 @@ std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOption
     part.scene = path;
     const Stages stages = [&](Bake& out, Progress& p, Diagnostics& d) {
         StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
-        std::optional<LightmapCharts> charts;
-        if (!prepareStages(run, charts)) return;
+        if (!prepareShardStep(run, path)) return;
         const Scene& scene = *out.scene;
-        if (charts) {
-            d.error({path, 0, 0}, "read-out shards of a bake with lightmaps are not supported yet: "
-                                  "pass --no-lightmaps to gather and merge");
-            return (void)run.stopped();
-        }
         part.solution_key = solutionKey(scene, out.options.solver);
         part.inputs_sha256 = out.inputs_sha256;
         const std::string& file = out.options.solution_file;
@@ -144,14 +148,8 @@ Bake mergeParts(const std::string& path, const BakeOptions& options, const std::
     std::stable_sort(parts.begin(), parts.end(), [](const ReadoutPart& a, const ReadoutPart& b) { return a.shard < b.shard; });
     const Stages stages = [&](Bake& out, Progress& p, Diagnostics& d) {
         StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
-        std::optional<LightmapCharts> charts;
-        if (!prepareStages(run, charts)) return;
+        if (!prepareShardStep(run, path)) return;
         const Scene& scene = *out.scene;
-        if (charts) {
-            d.error({path, 0, 0}, "read-out shards of a bake with lightmaps are not supported yet: "
-                                  "pass --no-lightmaps to gather and merge");
-            return (void)run.stopped();
-        }
         if (!checkParts(parts, out.inputs_sha256, solutionKey(scene, out.options.solver), {path, 0, 0}, d))
             return (void)run.stopped();
         out.report.options = out.options.solver;
