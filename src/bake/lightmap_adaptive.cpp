@@ -218,11 +218,14 @@ std::vector<TexelSite> chartTexelSites(const LightmapChart& chart, ParallelRunne
 
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
-                                      Progress* progress, const HiddenTest& hidden, double dark) {
+                                      Progress* progress, const HiddenTest& hidden, double dark,
+                                      std::span<const uint8_t> wanted) {
     State s{.layout = layout, .irradiance = irradiance, .progress = progress};
     size_t total = 0;
-    for (const LightmapChart& chart : layout.charts) {
-        s.spans.push_back(ChartSpan{total, chart.atlas < 0 ? 0 : chart.width, chart.atlas < 0 ? 0 : chart.height});
+    for (size_t c = 0; c < layout.charts.size(); ++c) {
+        const LightmapChart& chart = layout.charts[c];
+        const bool filled = chart.atlas >= 0 && (wanted.empty() || (c < wanted.size() && wanted[c]));
+        s.spans.push_back(ChartSpan{total, filled ? chart.width : 0, filled ? chart.height : 0});
         total += static_cast<size_t>(s.spans.back().width) * s.spans.back().height;
     }
     s.sites.resize(total);

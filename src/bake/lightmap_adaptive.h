@@ -12,6 +12,7 @@
 // normals see different light) is a step like a shadow edge: the test points find it.
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bake/lightmap_bake.h"
@@ -69,8 +70,11 @@ inline constexpr double kTexelShare = 0.9;
 // passes kDarkFloor of the light level its solution gives (brightestLight), known before any
 // texel is read, so each chart's decisions are its own (a shard of the read-out takes them as
 // the whole bake does); negative: kDarkFloor of the brightest texel of the first level.
+// `wanted` (per chart; empty: every chart): the charts to fill, the others left Empty and
+// uncounted. With `dark` given, a chart's texels are the same whichever others are wanted.
 AdaptiveCounts evaluateTexelsAdaptive(const LightmapLayout& layout, std::vector<LightmapImage>& images,
                                       const IrradianceFunction& irradiance, double tolerance, ParallelRunner& runner,
-                                      Progress* progress = nullptr, const HiddenTest& hidden = {}, double dark = -1.0);
+                                      Progress* progress = nullptr, const HiddenTest& hidden = {}, double dark = -1.0,
+                                      std::span<const uint8_t> wanted = {});
 
 }  // namespace radbake

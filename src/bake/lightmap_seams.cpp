@@ -2,6 +2,10 @@
 // least-squares fit of the texels under their bilinear lookups (conjugate gradient).
 #include "bake/lightmap_seams.h"
 
+#include <span>
+
+#include <functional>
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -548,61 +552,80 @@ ChartEdges findChartEdges(const Scene& scene, const LightmapLayout& layout) {
     return result;
 }
 
-StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
-                            ParallelRunner& runner, double tolerance, double dark_light) {
-    StitchStats stats;
-    if (padding < 1 || lightmaps.images.empty()) {
-        lightmaps.stitch = stats;
-        return stats;
-    }
-    const LightmapLayout& layout = lightmaps.layout;
-    const ChartEdges found = findChartEdges(scene, layout);
-    stats.edge_samples = found.edges.size();
-    stats.seam_samples = found.seams.size();
-
-    // The light at every sampled point (H / pi), gathered in parallel, each in its own slot.
+EdgeLight readChartEdges(const ChartEdges& found, const IrradianceFunction& irradiance, ParallelRunner& runner,
+                         double tolerance, double dark_light, std::span<const uint8_t> wanted,
+                         const std::function<void(bool)>& shared) {
+    // Every query: the edges, then each seam's two sides; each belongs to its sample's chart.
     std::vector<const EdgeSample*> queries;
     for (const EdgeSample& e : found.edges) queries.push_back(&e);
     for (const SeamSample& s : found.seams) {
         queries.push_back(&s.a);
         queries.push_back(&s.b);
     }
+    const auto isWanted = [&](size_t q) {
+        const uint32_t chart = queries[q]->chart;
+        return wanted.empty() || (chart < wanted.size() && wanted[chart]);
+    };
+    EdgeLight out;
+    out.light.assign(queries.size(), DVec3(0.0));
+    out.read.assign(queries.size(), 0);
     // A point seen with one normal is evaluated once: both sides of a cut through a flat
-    // region, and the shared ends of consecutive boundary edges, ask for the same light.
-    // With a tolerance, samples between two others wait for them (later passes, widest
-    // spans first).
+    // region, and the shared ends of consecutive boundary edges, ask for the same light. It is
+    // read as its first query (its triangle), which owns it. With a tolerance, samples between
+    // two others wait for them (later passes, widest spans first).
     const auto deferred = [&](size_t q) { return tolerance > 0.0 && q < found.edges.size() && found.edges[q].span > 0; };
     std::map<std::array<double, 6>, size_t> distinct_ids;  // ordered: first-seen order is deterministic
     std::vector<size_t> distinct_of(queries.size(), SIZE_MAX);
-    std::vector<const EdgeSample*> distinct;
+    std::vector<size_t> first_query;  // per distinct point
     for (size_t q = 0; q < queries.size(); ++q) {
         if (deferred(q)) continue;
         const DVec3& p = queries[q]->p_world;
         const DVec3& n = queries[q]->normal_world;
-        const auto [it, added] = distinct_ids.emplace(std::array<double, 6>{p.x, p.y, p.z, n.x, n.y, n.z}, distinct.size());
-        if (added) distinct.push_back(queries[q]);
+        const auto [it, added] = distinct_ids.emplace(std::array<double, 6>{p.x, p.y, p.z, n.x, n.y, n.z}, first_query.size());
+        if (added) first_query.push_back(q);
         distinct_of[q] = it->second;
     }
-    const auto evaluate = [&](const std::vector<const EdgeSample*>& points, std::vector<DVec3>& out) {
-        out.resize(points.size());
+    const auto evaluate = [&](const std::vector<size_t>& points, std::vector<DVec3>& light) {
+        light.resize(points.size());
         runner.forRanges(points.size(), 16, [&](size_t begin, size_t end) {
-            for (size_t q = begin; q < end; ++q) out[q] = irradiance({points[q]->p_world, points[q]->normal_world, points[q]->mesh, points[q]->triangle}) / kPi;
+            for (size_t k = begin; k < end; ++k) {
+                const EdgeSample& e = *queries[points[k]];
+                light[k] = irradiance({e.p_world, e.normal_world, e.mesh, e.triangle}) / kPi;
+            }
         });
     };
-    std::vector<DVec3> distinct_light;
-    evaluate(distinct, distinct_light);
-    std::vector<DVec3> light(queries.size());
+    // The distinct points the wanted queries need, those their charts own read apart from the
+    // rest (which another shard owns and counts).
+    std::vector<uint8_t> needed(first_query.size(), 0);
     for (size_t q = 0; q < queries.size(); ++q)
-        if (!deferred(q)) light[q] = distinct_light[distinct_of[q]];
-    stats.evaluations = distinct.size();
+        if (!deferred(q) && isWanted(q)) needed[distinct_of[q]] = 1;
+    std::vector<size_t> owned, others;
+    for (size_t d = 0; d < first_query.size(); ++d)
+        if (needed[d]) (isWanted(first_query[d]) ? owned : others).push_back(first_query[d]);
+    std::vector<DVec3> distinct_light(first_query.size()), owned_light, other_light;
+    if (!others.empty()) {
+        if (shared) shared(true);
+        evaluate(others, other_light);
+        if (shared) shared(false);
+    }
+    evaluate(owned, owned_light);
+    for (size_t k = 0; k < owned.size(); ++k) distinct_light[distinct_of[owned[k]]] = owned_light[k];
+    for (size_t k = 0; k < others.size(); ++k) distinct_light[distinct_of[others[k]]] = other_light[k];
+    out.evaluations = owned.size();
+    for (size_t q = 0; q < queries.size(); ++q)
+        if (!deferred(q) && isWanted(q)) {
+            out.light[q] = distinct_light[distinct_of[q]];
+            out.read[q] = 1;
+        }
     if (tolerance > 0.0) {
         double brightest_edge = 0.0;
         for (const DVec3& l : distinct_light) brightest_edge = std::max({brightest_edge, l.x, l.y, l.z});
         const double dark = dark_light >= 0.0 ? dark_light : kDarkEdge * brightest_edge;
+        std::vector<DVec3>& light = out.light;
         for (size_t span = kMaxEdgeSpan; span > 0; span /= 2) {
             std::vector<size_t> rest;
             for (size_t q = 0; q < found.edges.size(); ++q) {
-                if (found.edges[q].span != span) continue;
+                if (found.edges[q].span != span || !isWanted(q)) continue;
                 const DVec3 &before = light[q - span], &after = light[q + span];
                 bool agree = true;
                 for (int c = 0; c < 3; ++c)
@@ -610,15 +633,36 @@ StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const Irra
                                          tolerance * std::max(0.5 * std::fabs(before[c] + after[c]), dark);
                 if (agree) light[q] = 0.5 * (before + after);
                 else rest.push_back(q);
+                out.read[q] = 1;
             }
-            std::vector<const EdgeSample*> points;
-            for (size_t q : rest) points.push_back(queries[q]);
             std::vector<DVec3> rest_light;
-            evaluate(points, rest_light);
+            evaluate(rest, rest_light);
             for (size_t k = 0; k < rest.size(); ++k) light[rest[k]] = rest_light[k];
-            stats.evaluations += rest.size();
+            out.evaluations += rest.size();
         }
     }
+    return out;
+}
+
+StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
+                            ParallelRunner& runner, double tolerance, double dark_light) {
+    if (padding < 1 || lightmaps.images.empty()) {
+        lightmaps.stitch = StitchStats{};
+        return lightmaps.stitch;
+    }
+    const ChartEdges found = findChartEdges(scene, lightmaps.layout);
+    const EdgeLight light = readChartEdges(found, irradiance, runner, tolerance, dark_light);
+    return fitChartEdges(lightmaps, found, light, runner);
+}
+
+StitchStats fitChartEdges(Lightmaps& lightmaps, const ChartEdges& found, const EdgeLight& edge_light,
+                          ParallelRunner& runner) {
+    StitchStats stats;
+    const LightmapLayout& layout = lightmaps.layout;
+    stats.edge_samples = found.edges.size();
+    stats.seam_samples = found.seams.size();
+    stats.evaluations = edge_light.evaluations;
+    const std::vector<DVec3>& light = edge_light.light;
     double brightest = 0.0;
     for (const DVec3& l : light) brightest = std::max({brightest, l.x, l.y, l.z});
     const double floor = std::max(1e-6 * brightest, 1e-30);  // relative gaps in the dark are measured against this

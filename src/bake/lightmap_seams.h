@@ -11,6 +11,8 @@
 // the padding within a few times that range (a chart narrower than a texel puts two edges with
 // different light a fraction of a texel apart, and an unbounded fit runs its texels to any value).
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "bake/lightmap_bake.h"
@@ -65,6 +67,24 @@ DVec3 bilinearLookup(const LightmapImage& image, const DVec2& texel);
 // joined by seams are solved in parallel, each on its own: the result does not depend on the
 // runner's thread count. Needs padding >= 1 (a lookup on an edge reads one
 // padding ring); does nothing otherwise. Fills and returns lightmaps.stitch.
+// The light (H / pi) at every query of a ChartEdges (its edges, then each seam's a and b), as
+// stitchLightmaps reads it, and what was read.
+struct EdgeLight {
+    std::vector<DVec3> light;   // per query
+    std::vector<uint8_t> read;  // per query: 1 when read (its chart was wanted)
+    size_t evaluations = 0;     // irradiance evaluations of the points the wanted charts own
+};
+// `wanted` (per chart; empty: every chart): only the queries of those charts are read, each
+// (with `dark` given) the same as when every chart is. A point asked for by several queries is
+// read once, as its first query, whose chart owns it; points the wanted charts need but do not
+// own are read between shared(true) and shared(false) (when given), so a shard can leave their
+// work to the shard that owns them.
+EdgeLight readChartEdges(const ChartEdges& found, const IrradianceFunction& irradiance, ParallelRunner& runner,
+                         double tolerance, double dark = -1.0, std::span<const uint8_t> wanted = {},
+                         const std::function<void(bool)>& shared = {});
+// The fit of the texels under the edge and seam lookups, from the light at every query.
+StitchStats fitChartEdges(Lightmaps& lightmaps, const ChartEdges& found, const EdgeLight& light, ParallelRunner& runner);
+
 StitchStats stitchLightmaps(const Scene& scene, Lightmaps& lightmaps, const IrradianceFunction& irradiance, int padding,
                             ParallelRunner& runner, double tolerance = 0.0, double dark = -1.0);
 
