@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
 
 #include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_seams.h"
@@ -192,11 +193,9 @@ LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options
     return out;
 }
 
-bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOptions& readout, LightmapCharts charts,
-                   ParallelRunner& runner, Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress) {
-    const LightmapOptions& options = charts.options;
-    LightmapLayout layout;
-    if (!packLightmapCharts(std::move(charts.charts), options, layout, diagnostics)) return false;
+LightmapPart readLightmapPart(const Scene& scene, const Solution& solution, const ReadoutOptions& readout,
+                              const LightmapLayout& layout, const LightmapOptions& options,
+                              std::span<const uint8_t> wanted, ParallelRunner& runner, Progress* progress) {
     std::optional<LinkReconstruction> links;
     // A scene without light reads 0 everywhere: no gather, and no hidden texel to fill.
     const bool lit = carriesLight(solution);
@@ -211,15 +210,130 @@ bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOp
         return lit && solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);
     };
     const double dark = kDarkFloor * brightestLight(solution);
-    lightmaps = evaluateLightmaps(std::move(layout), irradiance, options.padding, runner, options.texel_tolerance,
-                                  progress, hidden, dark);
-    if (runner.cancelled()) return false;
+    std::vector<LightmapImage> images;
+    for (const LightmapAtlas& atlas : layout.atlases) {
+        LightmapImage image;
+        image.width = atlas.width;
+        image.height = atlas.height;
+        image.rgb.assign(static_cast<size_t>(atlas.width) * atlas.height * 3, 0.0f);
+        image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
+        images.push_back(std::move(image));
+    }
+    LightmapPart part;
+    const AdaptiveCounts counts = evaluateTexelsAdaptive(layout, images, irradiance, options.texel_tolerance, runner,
+                                                         progress, hidden, dark, wanted);
+    part.covered = counts.covered;
+    part.hidden = counts.hidden;
+    part.evaluated = counts.evaluated;
+    part.interpolated = counts.interpolated;
+    part.required = counts.required;
+    if (runner.cancelled()) return part;
+    for (uint32_t c = 0; c < layout.charts.size(); ++c) {
+        const LightmapChart& chart = layout.charts[c];
+        if (chart.atlas < 0 || !(wanted.empty() || (c < wanted.size() && wanted[c]))) continue;
+        part.charts.push_back(c);
+        const LightmapImage& image = images[static_cast<size_t>(chart.atlas)];
+        for (int y = chart.y; y < chart.y + chart.height; ++y)
+            for (int x = chart.x; x < chart.x + chart.width; ++x) {
+                const size_t t = texelIndex(image, x, y);
+                part.rgb.insert(part.rgb.end(), image.rgb.begin() + 3 * t, image.rgb.begin() + 3 * t + 3);
+                part.state.push_back(image.state[t]);
+            }
+    }
     if (progress) progress->update(kTexelShare);
-    if (options.stitch_seams)
-        stitchLightmaps(scene, lightmaps, irradiance, options.padding, runner, options.texel_tolerance, dark);
+    if (options.stitch_seams && options.padding >= 1) {
+        // What the texels' reads cost so far, and what the reads of points other charts own add.
+        ReadoutWork others, before;
+        const auto shared = [&](bool starting) {
+            if (!links) return;
+            if (starting) before = links->work();
+            else others += links->work() - before;
+        };
+        const ChartEdges found = findChartEdges(scene, layout);
+        const EdgeLight light = readChartEdges(found, irradiance, runner, options.texel_tolerance, dark, wanted, shared);
+        for (size_t q = 0; q < light.read.size(); ++q)
+            if (light.read[q]) {
+                part.edge_queries.push_back(q);
+                part.edge_light.push_back(light.light[q]);
+            }
+        part.edge_evaluations = light.evaluations;
+        if (links) part.work = links->work() - others;
+    } else if (links) {
+        part.work = links->work();
+    }
     if (progress) progress->update(1.0);
-    if (links) lightmaps.work = links->work();
-    return !runner.cancelled();
+    return part;
+}
+
+bool assembleLightmaps(const Scene& scene, LightmapLayout layout, const LightmapOptions& options,
+                       std::span<const LightmapPart> parts, ParallelRunner& runner, Lightmaps& lightmaps) {
+    lightmaps = Lightmaps{};
+    lightmaps.layout = std::move(layout);
+    const LightmapLayout& placed = lightmaps.layout;
+    for (const LightmapAtlas& atlas : placed.atlases) {
+        LightmapImage image;
+        image.width = atlas.width;
+        image.height = atlas.height;
+        image.rgb.assign(static_cast<size_t>(atlas.width) * atlas.height * 3, 0.0f);
+        image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
+        lightmaps.images.push_back(std::move(image));
+    }
+    std::vector<uint8_t> filled(placed.charts.size(), 0);
+    for (const LightmapPart& part : parts) {
+        size_t at = 0;
+        for (const uint32_t c : part.charts) {
+            if (c >= placed.charts.size() || filled[c] || placed.charts[c].atlas < 0) return false;
+            filled[c] = 1;
+            const LightmapChart& chart = placed.charts[c];
+            LightmapImage& image = lightmaps.images[static_cast<size_t>(chart.atlas)];
+            if (at + static_cast<size_t>(chart.width) * chart.height > part.state.size()) return false;
+            for (int y = chart.y; y < chart.y + chart.height; ++y)
+                for (int x = chart.x; x < chart.x + chart.width; ++x, ++at) {
+                    const size_t t = texelIndex(image, x, y);
+                    std::copy_n(part.rgb.begin() + 3 * at, 3, image.rgb.begin() + 3 * t);
+                    image.state[t] = part.state[at];
+                }
+        }
+        if (at != part.state.size() || part.rgb.size() != 3 * at) return false;
+        lightmaps.covered_texels += part.covered;
+        lightmaps.hidden_texels += part.hidden;
+        lightmaps.evaluated_texels += part.evaluated;
+        lightmaps.interpolated_texels += part.interpolated;
+        lightmaps.required_texels += part.required;
+        lightmaps.work += part.work;
+    }
+    for (size_t c = 0; c < placed.charts.size(); ++c)
+        if (placed.charts[c].atlas >= 0 && !filled[c]) return false;
+    dilateLightmaps(lightmaps, options.padding);
+    if (!options.stitch_seams || options.padding < 1) return true;
+    const ChartEdges found = findChartEdges(scene, placed);
+    EdgeLight light;
+    light.light.assign(found.edges.size() + 2 * found.seams.size(), DVec3(0.0));
+    light.read.assign(light.light.size(), 0);
+    for (const LightmapPart& part : parts) {
+        if (part.edge_queries.size() != part.edge_light.size()) return false;
+        for (size_t k = 0; k < part.edge_queries.size(); ++k) {
+            const uint64_t q = part.edge_queries[k];
+            if (q >= light.read.size() || light.read[q]) return false;
+            light.read[q] = 1;
+            light.light[q] = part.edge_light[k];
+        }
+        light.evaluations += part.edge_evaluations;
+    }
+    if (std::find(light.read.begin(), light.read.end(), 0) != light.read.end()) return false;
+    fitChartEdges(lightmaps, found, light, runner);
+    return true;
+}
+
+bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOptions& readout, LightmapCharts charts,
+                   ParallelRunner& runner, Lightmaps& lightmaps, Diagnostics& diagnostics, Progress* progress) {
+    const LightmapOptions& options = charts.options;
+    LightmapLayout layout;
+    if (!packLightmapCharts(std::move(charts.charts), options, layout, diagnostics)) return false;
+    const LightmapPart all = readLightmapPart(scene, solution, readout, layout, options, {}, runner, progress);
+    if (runner.cancelled()) return false;
+    return assembleLightmaps(scene, std::move(layout), options, std::span<const LightmapPart>(&all, 1), runner, lightmaps) &&
+           !runner.cancelled();
 }
 
 }  // namespace radbake

@@ -4,6 +4,7 @@
 // pulls in black. Values are H / pi like the vertex bake (DESIGN.md section 2).
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "bake/lightmap_charts.h"
@@ -123,5 +124,26 @@ LightmapCharts chartLightmaps(const Scene& scene, const LightmapOptions& options
 bool bakeLightmaps(const Scene& scene, const Solution& solution, const ReadoutOptions& readout, LightmapCharts charts,
                    ParallelRunner& runner, Lightmaps& lightmaps, Diagnostics& diagnostics,
                    Progress* progress = nullptr);
+
+// bakeLightmaps in pieces, for a read-out split into shards: the reads of some charts (their
+// texels before dilation, the light at their chart-edge queries, the work), then the lightmaps
+// assembled from parts that cover every placed chart once: dilation and the seam fit run there.
+// Reading the charts in any parts and assembling them gives bakeLightmaps' images bit for bit.
+struct LightmapPart {
+    std::vector<uint32_t> charts;       // chart indices read, increasing
+    std::vector<float> rgb;             // their texels, chart after chart, row after row: 3 each
+    std::vector<TexelState> state;      // the same texels' states
+    std::vector<uint64_t> edge_queries; // the chart-edge queries read (lightmap_seams.h: EdgeLight)
+    std::vector<DVec3> edge_light;      // and their light
+    uint64_t covered = 0, hidden = 0, evaluated = 0, interpolated = 0, required = 0, edge_evaluations = 0;
+    ReadoutWork work;                   // of the link read-out, without the points other parts own
+};
+// The charts `wanted` selects (per chart of the placed `layout`; empty: every chart).
+LightmapPart readLightmapPart(const Scene& scene, const Solution& solution, const ReadoutOptions& readout,
+                              const LightmapLayout& layout, const LightmapOptions& options,
+                              std::span<const uint8_t> wanted, ParallelRunner& runner, Progress* progress = nullptr);
+// False when the parts do not cover every placed chart and chart-edge query once.
+bool assembleLightmaps(const Scene& scene, LightmapLayout layout, const LightmapOptions& options,
+                       std::span<const LightmapPart> parts, ParallelRunner& runner, Lightmaps& lightmaps);
 
 }  // namespace radbake

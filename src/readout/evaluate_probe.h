@@ -29,6 +29,14 @@ struct ReadoutWork {
         counts.pieces += o.counts.pieces;
         return *this;
     }
+    ReadoutWork operator-(const ReadoutWork& o) const {
+        ReadoutWork d = *this;
+        d.points -= o.points;
+        d.counts.rays -= o.counts.rays;
+        d.counts.form_factors -= o.counts.form_factors;
+        d.counts.pieces -= o.counts.pieces;
+        return d;
+    }
 };
 
 // Irradiance H (W/m^2, DESIGN.md section 2) arriving at `point` on a surface facing `normal`
