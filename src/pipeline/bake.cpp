@@ -239,6 +239,35 @@ ReadoutOptions readoutOptionsOf(const BakeOptions& options) {
     return readout;
 }
 
+void completeLightmaps(StageRun& run, BakedLightmaps baked, const LightmapOptions& used, const Solution* solution,
+                       const ReadoutOptions& readout) {
+    Bake& out = run.out;
+    const Scene& scene = *out.scene;
+    const BakeOptions& options = out.options;
+    ParallelRunner& runner = run.runner;
+    Diagnostics& diagnostics = run.diagnostics;
+    const double metres_per_unit = static_cast<double>(options.import.unit_scale);
+    if (options.lightmaps.quantity == LightmapQuantity::Radiance)
+        toReflectedRadiance(scene, used.padding, baked.lightmaps);
+    baked.files.quantity = options.lightmaps.quantity;
+    if (solution) baked.shadowmask = bakeShadowmask(*solution, baked.lightmaps.layout, used.padding, runner, diagnostics);
+    for (size_t k = 0; k < baked.shadowmask.images.size(); ++k)
+        baked.files.shadowmask_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_shadowmask.png");
+    if (options.lightmaps.directional && solution) {
+        baked.directions = bakeLightmapDirections(*solution, readout, baked.lightmaps.layout, used.padding, runner);
+        for (size_t k = 0; k < baked.directions.images.size(); ++k)
+            baked.files.direction_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_direction.exr");
+    }
+    for (const ShadowmaskLight& light : baked.shadowmask.lights)
+        if (light.channel >= 0) baked.files.shadowmask_channels.emplace_back(light.name, light.channel);
+    baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
+    for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
+        baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");
+    fillLightmapReport(baked, used, metres_per_unit, out.report.lightmaps);  // after the shadowmask
+    out.report.texel_readout = readoutReport(baked.lightmaps.work);
+    out.lightmaps = std::move(baked);
+}
+
 void finishStages(StageRun& run) {
     Bake& out = run.out;
     if (out.options.preview) {
@@ -302,27 +331,8 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
             out.status = BakeStatus::InputError;
             return;
         }
-        if (options.lightmaps.quantity == LightmapQuantity::Radiance)
-            toReflectedRadiance(scene, used.padding, baked.lightmaps);
-        baked.files.quantity = options.lightmaps.quantity;
-        baked.shadowmask = bakeShadowmask(*out.solution, baked.lightmaps.layout, used.padding, runner, diagnostics);
-        for (size_t k = 0; k < baked.shadowmask.images.size(); ++k)
-            baked.files.shadowmask_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_shadowmask.png");
-        if (options.lightmaps.directional) {
-            baked.directions = bakeLightmapDirections(*out.solution, readout, baked.lightmaps.layout, used.padding, runner);
-            for (size_t k = 0; k < baked.directions.images.size(); ++k)
-                baked.files.direction_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_direction.exr");
-        }
-        for (const ShadowmaskLight& light : baked.shadowmask.lights)
-            if (light.channel >= 0) baked.files.shadowmask_channels.emplace_back(light.name, light.channel);
-        baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);
-        for (size_t k = 0; k < baked.lightmaps.layout.atlases.size(); ++k)
-            baked.files.atlas_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + ".exr");
-        fillLightmapReport(baked, used, metres_per_unit, out.report.lightmaps);  // after the shadowmask
-        out.report.texel_readout = readoutReport(baked.lightmaps.work);
-        out.lightmaps = std::move(baked);
+        completeLightmaps(run, std::move(baked), used, &*out.solution, readout);
     }
-
 
     if (options.probes) {
         beginPhase("probes");

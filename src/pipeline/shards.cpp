@@ -12,7 +12,7 @@
 namespace radbake {
 namespace {
 
-constexpr char kPartMagic[] = "radbake read-out part 1\n";
+constexpr char kPartMagic[] = "radbake read-out part 2\n";
 
 std::string partName(const ReadoutPart& part) {
     return "shard " + std::to_string(part.shard) + " of " + std::to_string(part.shards);
@@ -60,13 +60,21 @@ bool checkParts(const std::vector<ReadoutPart>& parts, const std::string& inputs
     return ok;
 }
 
-// prepareStages for a gather or a merge; false when stopped.
-bool prepareShardStep(StageRun& run, const std::string& path) {
+// prepareStages for a gather or a merge, the lightmap charts placed; false when stopped.
+bool prepareShardStep(StageRun& run, const std::string& path, std::optional<LightmapLayout>& layout,
+                      std::optional<LightmapOptions>& used) {
     std::optional<LightmapCharts> charts;
     if (!prepareStages(run, charts)) return false;
     if (!charts) return true;
-    run.diagnostics.error({path, 0, 0}, "read-out shards of a bake with lightmaps are not supported yet: "
-                                        "pass --no-lightmaps to gather and merge");
+    const BakeOptions& options = run.out.options;
+    if (options.lightmaps.directional || !options.realtime_lights.empty()) {
+        run.diagnostics.error({path, 0, 0}, "read-out shards of directional lightmaps or of a shadowmask "
+                                            "(--directional, --realtime-lights) are not supported yet");
+        return !run.stopped();
+    }
+    used = charts->options;
+    layout.emplace();
+    if (!packLightmapCharts(std::move(charts->charts), *used, *layout, run.diagnostics)) return !run.stopped();
     return !run.stopped();
 }
 
@@ -99,7 +107,9 @@ std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOption
     part.scene = path;
     const Stages stages = [&](Bake& out, Progress& p, Diagnostics& d) {
         StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
-        if (!prepareShardStep(run, path)) return;
+        std::optional<LightmapLayout> layout;
+        std::optional<LightmapOptions> used;
+        if (!prepareShardStep(run, path, layout, used)) return;
         const Scene& scene = *out.scene;
         part.solution_key = solutionKey(scene, out.options.solver);
         part.inputs_sha256 = out.inputs_sha256;
@@ -123,6 +133,17 @@ std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOption
         const auto [begin, end] = shardRange(vertexPointCosts(scene), shard, shards);
         part.vertices = readVertexPoints(scene, *out.solution, readout, run.runner, begin, end, &p);
         if (run.stopped()) return;
+        if (layout) {
+            run.beginPhase("lightmaps");
+            std::vector<double> texels;
+            for (const LightmapChart& chart : layout->charts)
+                texels.push_back(chart.atlas < 0 ? 0.0 : static_cast<double>(chart.width) * chart.height);
+            const auto [first, last] = shardRange(texels, shard, shards);
+            std::vector<uint8_t> wanted(layout->charts.size(), 0);
+            std::fill(wanted.begin() + static_cast<std::ptrdiff_t>(first), wanted.begin() + static_cast<std::ptrdiff_t>(last), 1);
+            part.lightmaps = readLightmapPart(scene, *out.solution, readout, *layout, *used, wanted, run.runner, &p);
+            if (run.stopped()) return;
+        }
         if (out.options.probes) {
             run.beginPhase("probes");
             const std::vector<double> each(out.options.probes->size(), 1.0);
@@ -148,7 +169,9 @@ Bake mergeParts(const std::string& path, const BakeOptions& options, const std::
     std::stable_sort(parts.begin(), parts.end(), [](const ReadoutPart& a, const ReadoutPart& b) { return a.shard < b.shard; });
     const Stages stages = [&](Bake& out, Progress& p, Diagnostics& d) {
         StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
-        if (!prepareShardStep(run, path)) return;
+        std::optional<LightmapLayout> layout;
+        std::optional<LightmapOptions> used;
+        if (!prepareShardStep(run, path, layout, used)) return;
         const Scene& scene = *out.scene;
         if (!checkParts(parts, out.inputs_sha256, solutionKey(scene, out.options.solver), {path, 0, 0}, d))
             return (void)run.stopped();
@@ -172,6 +195,17 @@ Bake mergeParts(const std::string& path, const BakeOptions& options, const std::
         }
         out.vertices = std::move(*assembled);
         out.report.vertex_readout = readoutReport(out.vertices.work);
+        if (layout) {
+            std::vector<LightmapPart> lightmaps;
+            for (const ReadoutPart& part : parts) lightmaps.push_back(part.lightmaps);
+            BakedLightmaps baked;
+            if (!assembleLightmaps(scene, std::move(*layout), *used, lightmaps, run.runner, baked.lightmaps)) {
+                d.error({path, 0, 0}, "the parts do not cover the scene's lightmap charts once each "
+                                      "(read with other options than the merge's?)");
+                return (void)run.stopped();
+            }
+            completeLightmaps(run, std::move(baked), *used, nullptr, readoutOptionsOf(out.options));
+        }
         finishStages(run);
     };
     return importAndRun(path, options, progress, diagnostics, stages);
@@ -192,6 +226,15 @@ void stageReadoutPart(const ReadoutPart& part, OutputTransaction& transaction, D
     w.array(part.vertices.groups);
     w.array(part.vertices.h);
     w.value(part.vertices.work);
+    const LightmapPart& l = part.lightmaps;
+    w.array(l.charts);
+    w.array(l.rgb);
+    w.array(l.state);
+    w.array(l.edge_queries);
+    w.array(l.edge_light);
+    for (const uint64_t count : {l.covered, l.hidden, l.evaluated, l.interpolated, l.required, l.edge_evaluations})
+        w.value(count);
+    w.value(l.work);
     w.value(part.probe_begin);
     w.value(part.probe_end);
     w.array(part.probes);
@@ -226,6 +269,15 @@ std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, 
     r.array(part.vertices.groups);
     r.array(part.vertices.h);
     r.value(part.vertices.work);
+    LightmapPart& l = part.lightmaps;
+    r.array(l.charts);
+    r.array(l.rgb);
+    r.array(l.state);
+    r.array(l.edge_queries);
+    r.array(l.edge_light);
+    for (uint64_t* count : {&l.covered, &l.hidden, &l.evaluated, &l.interpolated, &l.required, &l.edge_evaluations})
+        r.value(*count);
+    r.value(l.work);
     r.value(part.probe_begin);
     r.value(part.probe_end);
     r.array(part.probes);

@@ -2,8 +2,9 @@
 // A bake split over machines (issue 29): after `radbake solve`, each of N read-out shards reads
 // the light of its share of the scene from the saved solution (`radbake gather --shard K/N`),
 // and `radbake merge` assembles the parts into exactly the outputs one `radbake bake` writes.
-// A shard takes a contiguous run of the scene's welded vertex points and of its probes,
-// balanced by estimated cost; every point's light is its own, so the split changes no byte.
+// A shard takes a contiguous run of the scene's welded vertex points, of its lightmap charts
+// and of its probes, each balanced by estimated cost; every point's light is its own and each
+// chart's texels are too, so the split changes no byte.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -25,6 +26,7 @@ struct ReadoutPart {
     std::string solution_key;        // of the solution read (solution_cache.h)
     SolveStats solve;
     VertexPointLight vertices;
+    LightmapPart lightmaps;          // of its charts (none without lightmaps)
     uint64_t probe_begin = 0, probe_end = 0;
     std::vector<DVec3> probes;       // H (W/m^2) of probes [probe_begin, probe_end)
     std::string folder;              // where it was read from (for messages; not saved)
@@ -37,7 +39,7 @@ std::pair<size_t, size_t> shardRange(const std::vector<double>& costs, uint32_t 
 // Shard `shard` of `shards` of the read-out of the scene at `path`, from the solution in
 // options.solution_file, which must hold that scene's solution for options.solver (else a
 // located error: `radbake solve` with the same options writes it). nullopt after reporting.
-// Bakes with lightmaps cannot be split yet (an error).
+// Directional lightmaps and shadowmasks cannot be split yet (an error).
 std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOptions& options, uint32_t shard,
                                        uint32_t shards, Progress& progress, Diagnostics& diagnostics);
 
