@@ -3,6 +3,7 @@
 // the lightmap (the shadowmask, the directions) into the chart's padding.
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bake/lightmap_charts.h"
@@ -34,6 +35,65 @@ void dilateChartTexels(const LightmapChart& chart, int padding, int width, int h
             }
         for (const size_t i : filled) covered[i] = 1;
     }
+}
+
+// Per-texel records of some charts' rectangles, for the parts of a read-out split by chart:
+// `size` bytes a texel, chart after chart (increasing), row after row.
+struct ChartRecords {
+    std::vector<uint32_t> charts;
+    uint32_t size = 0;
+    std::vector<uint8_t> bytes;
+};
+
+inline bool chartWanted(std::span<const uint8_t> wanted, size_t chart) {
+    return wanted.empty() || (chart < wanted.size() && wanted[chart]);
+}
+
+// The records of the placed charts `wanted` selects (empty: all); get(atlas, texel, out) writes
+// one texel's `size` bytes.
+template <class Get>
+ChartRecords collectChartRecords(const LightmapLayout& layout, std::span<const uint8_t> wanted, uint32_t size, Get&& get) {
+    ChartRecords records;
+    records.size = size;
+    for (uint32_t c = 0; c < layout.charts.size(); ++c) {
+        const LightmapChart& chart = layout.charts[c];
+        if (chart.atlas < 0 || !chartWanted(wanted, c)) continue;
+        records.charts.push_back(c);
+        const size_t width = static_cast<size_t>(layout.atlases[static_cast<size_t>(chart.atlas)].width);
+        for (int y = chart.y; y < chart.y + chart.height; ++y)
+            for (int x = chart.x; x < chart.x + chart.width; ++x) {
+                records.bytes.resize(records.bytes.size() + size);
+                get(static_cast<size_t>(chart.atlas), static_cast<size_t>(y) * width + static_cast<size_t>(x),
+                    records.bytes.data() + records.bytes.size() - size);
+            }
+    }
+    return records;
+}
+
+// Calls put(atlas, texel, bytes) for every texel of parts that cover every placed chart once,
+// with records of `size` bytes; false (part way) when they do not.
+template <class Put>
+bool spreadChartRecords(const LightmapLayout& layout, std::span<const ChartRecords> parts, uint32_t size, Put&& put) {
+    std::vector<uint8_t> seen(layout.charts.size(), 0);
+    for (const ChartRecords& part : parts) {
+        if (part.size != size) return false;
+        size_t at = 0;
+        for (const uint32_t c : part.charts) {
+            if (c >= layout.charts.size() || seen[c] || layout.charts[c].atlas < 0) return false;
+            seen[c] = 1;
+            const LightmapChart& chart = layout.charts[c];
+            const size_t width = static_cast<size_t>(layout.atlases[static_cast<size_t>(chart.atlas)].width);
+            if (at + static_cast<size_t>(chart.width) * chart.height * size > part.bytes.size()) return false;
+            for (int y = chart.y; y < chart.y + chart.height; ++y)
+                for (int x = chart.x; x < chart.x + chart.width; ++x, at += size)
+                    put(static_cast<size_t>(chart.atlas), static_cast<size_t>(y) * width + static_cast<size_t>(x),
+                        part.bytes.data() + at);
+        }
+        if (at != part.bytes.size()) return false;
+    }
+    for (size_t c = 0; c < layout.charts.size(); ++c)
+        if (layout.charts[c].atlas >= 0 && !seen[c]) return false;
+    return true;
 }
 
 // The centre of atlas texel (tx, ty) in the chart's plane.

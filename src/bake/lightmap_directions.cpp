@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <optional>
 
 #include "bake/chart_texels.h"
@@ -19,8 +20,8 @@ constexpr int kDirectionSamples = 8;  // tilted normals a texel is read at, roun
 
 }  // namespace
 
-LightmapDirections bakeLightmapDirections(const Solution& solution, const ReadoutOptions& readout,
-                                          const LightmapLayout& layout, int padding, ParallelRunner& runner) {
+ChartRecords readDirectionRecords(const Solution& solution, const ReadoutOptions& readout, const LightmapLayout& layout,
+                                  std::span<const uint8_t> wanted, ParallelRunner& runner) {
     LightmapDirections out;
     std::vector<std::vector<uint8_t>> covered;
     for (const LightmapAtlas& atlas : layout.atlases) {
@@ -37,11 +38,10 @@ LightmapDirections bakeLightmapDirections(const Solution& solution, const Readou
                      : surfaceIrradiance(solution, readout, p, n, mesh, triangle);
     };
     const double tilt = kDirectionTiltDegrees * kPi / 180.0, c = std::cos(tilt), s = std::sin(tilt);
-    std::atomic<size_t> texels{0};
     // Charts' rectangles are disjoint: each task writes its own texels.
     runner.forEach(layout.charts.size(), 1, [&](size_t index) {
         const LightmapChart& chart = layout.charts[index];
-        if (chart.atlas < 0) return;
+        if (chart.atlas < 0 || !chartWanted(wanted, index)) return;
         const size_t a = static_cast<size_t>(chart.atlas);
         for (int ty = chart.y; ty < chart.y + chart.height; ++ty)
             for (int tx = chart.x; tx < chart.x + chart.width; ++tx) {
@@ -50,7 +50,6 @@ LightmapDirections bakeLightmapDirections(const Solution& solution, const Readou
                 if (!face) continue;
                 const size_t i = static_cast<size_t>(ty) * static_cast<size_t>(out.widths[a]) + static_cast<size_t>(tx);
                 covered[a][i] = 1;
-                texels.fetch_add(1, std::memory_order_relaxed);
                 const DVec3 p = face->worldPoint(centre), n0 = face->normal_world;
                 DVec3 t, b;
                 tangentFrame(n0, t, b);
@@ -74,12 +73,40 @@ LightmapDirections bakeLightmapDirections(const Solution& solution, const Readou
                 for (int k = 0; k < 3; ++k) out.images[a][3 * i + k] = static_cast<float>(g[k]);
             }
     });
-    out.texels = texels.load();
+    return collectChartRecords(layout, wanted, kDirectionRecord, [&](size_t atlas, size_t texel, uint8_t* record) {
+        std::memcpy(record, &out.images[atlas][3 * texel], 3 * sizeof(float));
+        record[3 * sizeof(float)] = covered[atlas][texel];
+    });
+}
+
+std::optional<LightmapDirections> assembleDirections(const LightmapLayout& layout, int padding,
+                                                     std::span<const ChartRecords> parts) {
+    LightmapDirections out;
+    std::vector<std::vector<uint8_t>> covered;
+    for (const LightmapAtlas& atlas : layout.atlases) {
+        const size_t texels = static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
+        out.images.emplace_back(texels * 3, 0.0f);
+        covered.emplace_back(texels, 0);
+        out.widths.push_back(atlas.width);
+        out.heights.push_back(atlas.height);
+    }
+    const bool whole = spreadChartRecords(layout, parts, kDirectionRecord, [&](size_t atlas, size_t texel, const uint8_t* record) {
+        std::memcpy(&out.images[atlas][3 * texel], record, 3 * sizeof(float));
+        covered[atlas][texel] = record[3 * sizeof(float)];
+        out.texels += record[3 * sizeof(float)];
+    });
+    if (!whole) return std::nullopt;
     for (size_t a = 0; a < layout.atlases.size(); ++a)
         for (const uint32_t chart : layout.atlases[a].charts)
             dilateChartTexels(layout.charts[chart], padding, out.widths[a], out.heights[a], covered[a],
                               [&](size_t to, size_t from) { std::copy_n(&out.images[a][3 * from], 3, &out.images[a][3 * to]); });
     return out;
+}
+
+LightmapDirections bakeLightmapDirections(const Solution& solution, const ReadoutOptions& readout,
+                                          const LightmapLayout& layout, int padding, ParallelRunner& runner) {
+    const ChartRecords all = readDirectionRecords(solution, readout, layout, {}, runner);
+    return *assembleDirections(layout, padding, std::span<const ChartRecords>(&all, 1));
 }
 
 }  // namespace radbake

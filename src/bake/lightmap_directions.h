@@ -10,8 +10,11 @@
 // Fitting the irradiance itself over the tilts a normal map uses, rather than L1 radiance over
 // the sphere, avoids the linear reconstruction of L1 radiance being 25 % low for one dominant
 // source.
+#include <optional>
+#include <span>
 #include <vector>
 
+#include "bake/chart_texels.h"
 #include "bake/lightmap_charts.h"
 #include "core/parallel.h"
 #include "radiosity/solution.h"
@@ -30,5 +33,14 @@ struct LightmapDirections {
 // The directions of every covered texel of the layout, padding dilated from the charts' texels.
 LightmapDirections bakeLightmapDirections(const Solution& solution, const ReadoutOptions& readout,
                                           const LightmapLayout& layout, int padding, ParallelRunner& runner);
+
+// The same in pieces, for a read-out split by chart: the charts `wanted` selects (empty: all)
+// read into records (g and whether the texel was read: 13 bytes a texel), then the directions
+// from records covering every chart, dilated. The pieces give bakeLightmapDirections' bytes.
+inline constexpr uint32_t kDirectionRecord = 3 * sizeof(float) + 1;
+ChartRecords readDirectionRecords(const Solution& solution, const ReadoutOptions& readout, const LightmapLayout& layout,
+                                  std::span<const uint8_t> wanted, ParallelRunner& runner);
+std::optional<LightmapDirections> assembleDirections(const LightmapLayout& layout, int padding,
+                                                     std::span<const ChartRecords> parts);
 
 }  // namespace radbake

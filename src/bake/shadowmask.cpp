@@ -4,7 +4,10 @@
 #include <bit>
 #include <cmath>
 #include <map>
+#include <cstring>
+#include <optional>
 #include <set>
+#include <span>
 
 #include "bake/chart_texels.h"
 #include "radiosity/punctual_lights.h"
@@ -154,17 +157,13 @@ void maskChart(const Solution& solution, const LightmapChart& chart, const std::
 
 }  // namespace
 
-Shadowmask bakeShadowmask(const Solution& solution, const LightmapLayout& layout, int padding, ParallelRunner& runner,
-                          Diagnostics& diagnostics) {
-    Shadowmask mask;
-    const Scene& scene = *solution.scene;
+ShadowmaskRecords readShadowmaskRecords(const Solution& solution, const LightmapLayout& layout,
+                                        std::span<const uint8_t> wanted, ParallelRunner& runner) {
+    ShadowmaskRecords out;
     std::vector<MaskedSource> realtime = maskedSources(solution);
-    for (const MaskedSource& source : realtime) mask.lights.push_back({source.name, -1});
-    if (realtime.empty()) return mask;
-    if (realtime.size() > kMaxMaskedLights) {
-        mask.lights_without_channel += realtime.size() - kMaxMaskedLights;
-        realtime.resize(kMaxMaskedLights);
-    }
+    for (const MaskedSource& source : realtime) out.names.push_back(source.name);
+    if (realtime.empty()) return out;
+    if (realtime.size() > kMaxMaskedLights) realtime.resize(kMaxMaskedLights);
     std::vector<AtlasMask> atlases(layout.atlases.size());
     for (size_t a = 0; a < atlases.size(); ++a) {
         AtlasMask& atlas = atlases[a];
@@ -178,8 +177,58 @@ Shadowmask bakeShadowmask(const Solution& solution, const LightmapLayout& layout
     // Charts' rectangles are disjoint: each task writes its own texels.
     runner.forEach(layout.charts.size(), 1, [&](size_t c) {
         const LightmapChart& chart = layout.charts[c];
-        if (chart.atlas >= 0) maskChart(solution, chart, realtime, atlases[static_cast<size_t>(chart.atlas)]);
+        if (chart.atlas >= 0 && chartWanted(wanted, c))
+            maskChart(solution, chart, realtime, atlases[static_cast<size_t>(chart.atlas)]);
     });
+    const uint32_t size = static_cast<uint32_t>(sizeof(uint64_t) + 1 + realtime.size());
+    out.records = collectChartRecords(layout, wanted, size, [&](size_t a, size_t texel, uint8_t* record) {
+        std::memcpy(record, &atlases[a].reach[texel], sizeof(uint64_t));
+        record[sizeof(uint64_t)] = atlases[a].covered[texel];
+        for (size_t k = 0; k < realtime.size(); ++k) record[sizeof(uint64_t) + 1 + k] = atlases[a].seen[k][texel];
+    });
+    return out;
+}
+
+Shadowmask bakeShadowmask(const Solution& solution, const LightmapLayout& layout, int padding, ParallelRunner& runner,
+                          Diagnostics& diagnostics) {
+    const ShadowmaskRecords all = readShadowmaskRecords(solution, layout, {}, runner);
+    return *assembleShadowmask(layout, padding, std::span<const ShadowmaskRecords>(&all, 1),
+                               solution.scene ? solution.scene->source_path : std::string(), diagnostics);
+}
+
+std::optional<Shadowmask> assembleShadowmask(const LightmapLayout& layout, int padding,
+                                             std::span<const ShadowmaskRecords> parts, const std::string& scene_path,
+                                             Diagnostics& diagnostics) {
+    Shadowmask mask;
+    if (parts.empty()) return std::nullopt;
+    const std::vector<std::string>& names = parts.front().names;
+    for (const std::string& name : names) mask.lights.push_back({name, -1});
+    if (names.empty()) return mask;
+    const size_t masked = std::min(names.size(), kMaxMaskedLights);
+    mask.lights_without_channel += names.size() - masked;
+    std::vector<AtlasMask> atlases(layout.atlases.size());
+    for (size_t a = 0; a < atlases.size(); ++a) {
+        AtlasMask& atlas = atlases[a];
+        atlas.width = layout.atlases[a].width;
+        atlas.height = layout.atlases[a].height;
+        const size_t texels = static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
+        atlas.reach.assign(texels, 0);
+        atlas.covered.assign(texels, 0);
+        atlas.seen.assign(masked, std::vector<uint8_t>(texels, 255));
+    }
+    std::vector<ChartRecords> records;
+    for (const ShadowmaskRecords& part : parts) {
+        if (part.names != names) return std::nullopt;
+        records.push_back(part.records);
+    }
+    const uint32_t size = static_cast<uint32_t>(sizeof(uint64_t) + 1 + masked);
+    const bool whole = spreadChartRecords(layout, records, size, [&](size_t a, size_t texel, const uint8_t* record) {
+        std::memcpy(&atlases[a].reach[texel], record, sizeof(uint64_t));
+        atlases[a].covered[texel] = record[sizeof(uint64_t)];
+        for (size_t k = 0; k < masked; ++k) atlases[a].seen[k][texel] = record[sizeof(uint64_t) + 1 + k];
+    });
+    if (!whole) return std::nullopt;
+    std::vector<ShadowmaskLight> realtime(mask.lights.begin(), mask.lights.begin() + static_cast<std::ptrdiff_t>(masked));
 
     // Lights that light a common texel conflict; each takes the first channel its coloured
     // neighbours leave free.
@@ -205,7 +254,7 @@ Shadowmask bakeShadowmask(const Solution& solution, const LightmapLayout& layout
         }
     }
     if (mask.lights_without_channel > 0)
-        diagnostics.warning({scene.source_path, 0, 0},
+        diagnostics.warning({scene_path, 0, 0},
                             std::to_string(mask.lights_without_channel) + " real-time light(s) have no shadowmask channel (" +
                                 left_out + "): more than " + std::to_string(kShadowmaskChannels) +
                                 " overlap at " + std::to_string(mask.texels_over_channels) + " texels");

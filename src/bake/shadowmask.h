@@ -7,9 +7,12 @@
 // different channels (greedy, in scene order), so a texel's channel belongs to one light. A light left without a channel (a fifth light
 // overlapping four) is counted and reported. Texels no such light reaches hold 1.
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "bake/chart_texels.h"
 #include "bake/lightmap_charts.h"
 #include "core/diagnostics.h"
 #include "core/parallel.h"
@@ -39,5 +42,19 @@ struct Shadowmask {
 // nearest covered neighbour's visibility.
 Shadowmask bakeShadowmask(const Solution& solution, const LightmapLayout& layout, int padding, ParallelRunner& runner,
                           Diagnostics& diagnostics);
+
+// The same in pieces, for a read-out split by chart: the real-time lights' names and the
+// visibility at the texels of the charts `wanted` selects (empty: all), then the mask from
+// parts covering every chart (nullopt when they do not, or name other lights). The pieces give
+// bakeShadowmask's bytes.
+struct ShadowmaskRecords {
+    std::vector<std::string> names;  // the real-time lights, in mask order
+    ChartRecords records;            // per texel: its reach bits, covered, each light's share
+};
+ShadowmaskRecords readShadowmaskRecords(const Solution& solution, const LightmapLayout& layout,
+                                        std::span<const uint8_t> wanted, ParallelRunner& runner);
+std::optional<Shadowmask> assembleShadowmask(const LightmapLayout& layout, int padding,
+                                             std::span<const ShadowmaskRecords> parts, const std::string& scene_path,
+                                             Diagnostics& diagnostics);
 
 }  // namespace radbake

@@ -253,11 +253,10 @@ void completeLightmaps(StageRun& run, BakedLightmaps baked, const LightmapOption
     if (solution) baked.shadowmask = bakeShadowmask(*solution, baked.lightmaps.layout, used.padding, runner, diagnostics);
     for (size_t k = 0; k < baked.shadowmask.images.size(); ++k)
         baked.files.shadowmask_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_shadowmask.png");
-    if (options.lightmaps.directional && solution) {
+    if (options.lightmaps.directional && solution)
         baked.directions = bakeLightmapDirections(*solution, readout, baked.lightmaps.layout, used.padding, runner);
-        for (size_t k = 0; k < baked.directions.images.size(); ++k)
-            baked.files.direction_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_direction.exr");
-    }
+    for (size_t k = 0; k < baked.directions.images.size(); ++k)
+        baked.files.direction_files.push_back("lightmaps/" + scene.name + "_" + std::to_string(k) + "_direction.exr");
     for (const ShadowmaskLight& light : baked.shadowmask.lights)
         if (light.channel >= 0) baked.files.shadowmask_channels.emplace_back(light.name, light.channel);
     baked.files.meshes = lightmapMeshes(scene, baked.lightmaps.layout);

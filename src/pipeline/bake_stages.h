@@ -41,8 +41,8 @@ std::vector<DVec3> evaluateProbes(const Solution& solution, const ReadoutOptions
                                   Progress& progress, size_t begin, size_t end);
 ReadoutReport readoutReport(const ReadoutWork& work);
 // The lightmaps made into outputs: the radiance quantity, the shadowmask and the directions
-// (read from `solution`; none without one), the meshes split at chart seams, the file names
-// and the report; sets out.lightmaps.
+// (read from `solution`; without one, those `baked` holds), the meshes split at chart seams,
+// the file names and the report; sets out.lightmaps.
 void completeLightmaps(StageRun& run, BakedLightmaps baked, const LightmapOptions& used, const Solution* solution,
                        const ReadoutOptions& readout);
 // After the read-out: the previews, the report's times, status Ok.

@@ -12,7 +12,7 @@
 namespace radbake {
 namespace {
 
-constexpr char kPartMagic[] = "radbake read-out part 2\n";
+constexpr char kPartMagic[] = "radbake read-out part 3\n";
 
 std::string partName(const ReadoutPart& part) {
     return "shard " + std::to_string(part.shard) + " of " + std::to_string(part.shards);
@@ -61,17 +61,11 @@ bool checkParts(const std::vector<ReadoutPart>& parts, const std::string& inputs
 }
 
 // prepareStages for a gather or a merge, the lightmap charts placed; false when stopped.
-bool prepareShardStep(StageRun& run, const std::string& path, std::optional<LightmapLayout>& layout,
+bool prepareShardStep(StageRun& run, std::optional<LightmapLayout>& layout,
                       std::optional<LightmapOptions>& used) {
     std::optional<LightmapCharts> charts;
     if (!prepareStages(run, charts)) return false;
     if (!charts) return true;
-    const BakeOptions& options = run.out.options;
-    if (options.lightmaps.directional || !options.realtime_lights.empty()) {
-        run.diagnostics.error({path, 0, 0}, "read-out shards of directional lightmaps or of a shadowmask "
-                                            "(--directional, --realtime-lights) are not supported yet");
-        return !run.stopped();
-    }
     used = charts->options;
     layout.emplace();
     if (!packLightmapCharts(std::move(charts->charts), *used, *layout, run.diagnostics)) return !run.stopped();
@@ -109,7 +103,7 @@ std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOption
         StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
         std::optional<LightmapLayout> layout;
         std::optional<LightmapOptions> used;
-        if (!prepareShardStep(run, path, layout, used)) return;
+        if (!prepareShardStep(run, layout, used)) return;
         const Scene& scene = *out.scene;
         part.solution_key = solutionKey(scene, out.options.solver);
         part.inputs_sha256 = out.inputs_sha256;
@@ -143,6 +137,10 @@ std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOption
             std::fill(wanted.begin() + static_cast<std::ptrdiff_t>(first), wanted.begin() + static_cast<std::ptrdiff_t>(last), 1);
             part.lightmaps = readLightmapPart(scene, *out.solution, readout, *layout, *used, wanted, run.runner, &p);
             if (run.stopped()) return;
+            part.shadowmask = readShadowmaskRecords(*out.solution, *layout, wanted, run.runner);
+            if (out.options.lightmaps.directional)
+                part.directions = readDirectionRecords(*out.solution, readout, *layout, wanted, run.runner);
+            if (run.stopped()) return;
         }
         if (out.options.probes) {
             run.beginPhase("probes");
@@ -171,7 +169,7 @@ Bake mergeParts(const std::string& path, const BakeOptions& options, const std::
         StageRun run{out, ParallelRunner(out.options.threading, p.cancelFlag()), p, d};
         std::optional<LightmapLayout> layout;
         std::optional<LightmapOptions> used;
-        if (!prepareShardStep(run, path, layout, used)) return;
+        if (!prepareShardStep(run, layout, used)) return;
         const Scene& scene = *out.scene;
         if (!checkParts(parts, out.inputs_sha256, solutionKey(scene, out.options.solver), {path, 0, 0}, d))
             return (void)run.stopped();
@@ -198,12 +196,24 @@ Bake mergeParts(const std::string& path, const BakeOptions& options, const std::
         if (layout) {
             std::vector<LightmapPart> lightmaps;
             for (const ReadoutPart& part : parts) lightmaps.push_back(part.lightmaps);
+            std::vector<ShadowmaskRecords> masks;
+            std::vector<ChartRecords> directions;
+            for (const ReadoutPart& part : parts) {
+                masks.push_back(part.shadowmask);
+                directions.push_back(part.directions);
+            }
             BakedLightmaps baked;
-            if (!assembleLightmaps(scene, std::move(*layout), *used, lightmaps, run.runner, baked.lightmaps)) {
+            std::optional<Shadowmask> mask = assembleShadowmask(*layout, used->padding, masks, scene.source_path, d);
+            std::optional<LightmapDirections> rebuilt;
+            if (out.options.lightmaps.directional) rebuilt = assembleDirections(*layout, used->padding, directions);
+            if (!mask || (out.options.lightmaps.directional && !rebuilt) ||
+                !assembleLightmaps(scene, std::move(*layout), *used, lightmaps, run.runner, baked.lightmaps)) {
                 d.error({path, 0, 0}, "the parts do not cover the scene's lightmap charts once each "
                                       "(read with other options than the merge's?)");
                 return (void)run.stopped();
             }
+            baked.shadowmask = std::move(*mask);
+            if (rebuilt) baked.directions = std::move(*rebuilt);
             completeLightmaps(run, std::move(baked), *used, nullptr, readoutOptionsOf(out.options));
         }
         finishStages(run);
@@ -235,6 +245,13 @@ void stageReadoutPart(const ReadoutPart& part, OutputTransaction& transaction, D
     for (const uint64_t count : {l.covered, l.hidden, l.evaluated, l.interpolated, l.required, l.edge_evaluations})
         w.value(count);
     w.value(l.work);
+    w.value(static_cast<uint64_t>(part.shadowmask.names.size()));
+    for (const std::string& name : part.shadowmask.names) writeString(w, name);
+    for (const ChartRecords* records : {&part.shadowmask.records, &part.directions}) {
+        w.array(records->charts);
+        w.value(records->size);
+        w.array(records->bytes);
+    }
     w.value(part.probe_begin);
     w.value(part.probe_end);
     w.array(part.probes);
@@ -278,6 +295,14 @@ std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, 
     for (uint64_t* count : {&l.covered, &l.hidden, &l.evaluated, &l.interpolated, &l.required, &l.edge_evaluations})
         r.value(*count);
     r.value(l.work);
+    uint64_t names = 0;
+    r.value(names);
+    for (uint64_t k = 0; k < names && r.ok && k <= bytes->size(); ++k) readString(r, part.shadowmask.names.emplace_back());
+    for (ChartRecords* records : {&part.shadowmask.records, &part.directions}) {
+        r.array(records->charts);
+        r.value(records->size);
+        r.array(records->bytes);
+    }
     r.value(part.probe_begin);
     r.value(part.probe_end);
     r.array(part.probes);

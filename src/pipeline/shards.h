@@ -13,6 +13,8 @@
 
 #include "export/output_transaction.h"
 #include "pipeline/bake.h"
+#include "bake/lightmap_directions.h"
+#include "bake/shadowmask.h"
 #include "readout/vertex_bake.h"
 
 namespace radbake {
@@ -27,6 +29,8 @@ struct ReadoutPart {
     SolveStats solve;
     VertexPointLight vertices;
     LightmapPart lightmaps;          // of its charts (none without lightmaps)
+    ShadowmaskRecords shadowmask;    // of its charts, with real-time lights
+    ChartRecords directions;         // of its charts, with --directional
     uint64_t probe_begin = 0, probe_end = 0;
     std::vector<DVec3> probes;       // H (W/m^2) of probes [probe_begin, probe_end)
     std::string folder;              // where it was read from (for messages; not saved)
@@ -39,7 +43,6 @@ std::pair<size_t, size_t> shardRange(const std::vector<double>& costs, uint32_t 
 // Shard `shard` of `shards` of the read-out of the scene at `path`, from the solution in
 // options.solution_file, which must hold that scene's solution for options.solver (else a
 // located error: `radbake solve` with the same options writes it). nullopt after reporting.
-// Directional lightmaps and shadowmasks cannot be split yet (an error).
 std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOptions& options, uint32_t shard,
                                        uint32_t shards, Progress& progress, Diagnostics& diagnostics);
 

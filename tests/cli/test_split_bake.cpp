@@ -141,10 +141,15 @@ void checkShardsMergeToOneBake(const std::string& scene_name, const std::string&
 
 }  // namespace
 
-TEST_CASE("solve, gather 1, 3 or 7 shards and merge: the bytes of one bake (vertices, lightmaps, probes, previews)") {
+TEST_CASE("solve, gather 1, 3 or 7 shards and merge: the bytes of one bake (vertices, lightmaps, directions, shadowmasks, probes, previews)") {
     checkShardsMergeToOneBake("cornell_box", "--quality draft --preview");
     checkShardsMergeToOneBake("paper/duplex", "--quality draft --texel-density 24");
     checkShardsMergeToOneBake("cornell_box", "--quality medium --no-lightmaps");
+    // Directional lightmaps and the shadowmask of the lamp, drawn in real time.
+    TempDir side;
+    writeText(side.path / "realtime.txt", "Light\n");
+    checkShardsMergeToOneBake("cornell_box", "--quality draft --texel-density 32 --directional --realtime-lights " +
+                                                 quote(side.path / "realtime.txt"));
 }
 
 TEST_CASE("a shard fed another solution, a merge missing a part or given a foreign one: refused by name, nothing written") {
@@ -167,11 +172,6 @@ TEST_CASE("a shard fed another solution, a merge missing a part or given a forei
     // Not K/N: a bad command line.
     CHECK(gather(draft, "3/2", "bad").exit_code == 2);
     CHECK(gather(draft, "0/2", "bad").exit_code == 2);
-    // Directional lightmaps cannot be split yet: said so.
-    const RunResult directional = gather(" -q --quality draft --directional", "1/2", "lm");
-    CHECK(directional.exit_code == 1);
-    CHECK(directional.output.find("not supported yet") != std::string::npos);
-    CHECK_FALSE(fs::exists(tmp.path / "lm"));
 
     REQUIRE(gather(draft, "1/2", "p1").exit_code == 0);
     REQUIRE(gather(draft, "2/2", "p2").exit_code == 0);
