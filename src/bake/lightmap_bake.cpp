@@ -34,6 +34,20 @@ DVec2 polygonCentroid(const std::vector<DVec2>& polygon) {
     return sum / (3.0 * twice_area);
 }
 
+// Black, empty images of the layout's atlases.
+std::vector<LightmapImage> emptyImages(const LightmapLayout& layout) {
+    std::vector<LightmapImage> images;
+    for (const LightmapAtlas& atlas : layout.atlases) {
+        LightmapImage image;
+        image.width = atlas.width;
+        image.height = atlas.height;
+        image.rgb.assign(static_cast<size_t>(atlas.width) * atlas.height * 3, 0.0f);
+        image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
+        images.push_back(std::move(image));
+    }
+    return images;
+}
+
 size_t texelIndex(const LightmapImage& image, int x, int y) { return static_cast<size_t>(y) * image.width + x; }
 
 // A ray meets the back of a surface: it travels along the hit triangle's front normal.
@@ -104,14 +118,7 @@ Lightmaps evaluateLightmaps(LightmapLayout layout, const IrradianceFunction& irr
                             const HiddenTest& hidden, double dark) {
     Lightmaps lightmaps;
     lightmaps.layout = std::move(layout);
-    for (const LightmapAtlas& atlas : lightmaps.layout.atlases) {
-        LightmapImage image;
-        image.width = atlas.width;
-        image.height = atlas.height;
-        image.rgb.assign(static_cast<size_t>(atlas.width) * atlas.height * 3, 0.0f);
-        image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
-        lightmaps.images.push_back(std::move(image));
-    }
+    lightmaps.images = emptyImages(lightmaps.layout);
     const AdaptiveCounts counts =
         evaluateTexelsAdaptive(lightmaps.layout, lightmaps.images, irradiance, texel_tolerance, runner, progress, hidden, dark);
     lightmaps.covered_texels = counts.covered;
@@ -210,15 +217,7 @@ LightmapPart readLightmapPart(const Scene& scene, const Solution& solution, cons
         return lit && solution.rays && insideGeometry(scene, *solution.rays, at.p_world, at.normal_world);
     };
     const double dark = kDarkFloor * brightestLight(solution);
-    std::vector<LightmapImage> images;
-    for (const LightmapAtlas& atlas : layout.atlases) {
-        LightmapImage image;
-        image.width = atlas.width;
-        image.height = atlas.height;
-        image.rgb.assign(static_cast<size_t>(atlas.width) * atlas.height * 3, 0.0f);
-        image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
-        images.push_back(std::move(image));
-    }
+    std::vector<LightmapImage> images = emptyImages(layout);
     LightmapPart part;
     const AdaptiveCounts counts = evaluateTexelsAdaptive(layout, images, irradiance, options.texel_tolerance, runner,
                                                          progress, hidden, dark, wanted);
@@ -270,14 +269,7 @@ bool assembleLightmaps(const Scene& scene, LightmapLayout layout, const Lightmap
     lightmaps = Lightmaps{};
     lightmaps.layout = std::move(layout);
     const LightmapLayout& placed = lightmaps.layout;
-    for (const LightmapAtlas& atlas : placed.atlases) {
-        LightmapImage image;
-        image.width = atlas.width;
-        image.height = atlas.height;
-        image.rgb.assign(static_cast<size_t>(atlas.width) * atlas.height * 3, 0.0f);
-        image.state.assign(static_cast<size_t>(atlas.width) * atlas.height, TexelState::Empty);
-        lightmaps.images.push_back(std::move(image));
-    }
+    lightmaps.images = emptyImages(placed);
     std::vector<uint8_t> filled(placed.charts.size(), 0);
     for (const LightmapPart& part : parts) {
         size_t at = 0;

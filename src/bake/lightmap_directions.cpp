@@ -18,12 +18,8 @@ double luminance(const DVec3& rgb) { return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.
 
 constexpr int kDirectionSamples = 8;  // tilted normals a texel is read at, round its normal
 
-}  // namespace
-
-ChartRecords readDirectionRecords(const Solution& solution, const ReadoutOptions& readout, const LightmapLayout& layout,
-                                  std::span<const uint8_t> wanted, ParallelRunner& runner) {
-    LightmapDirections out;
-    std::vector<std::vector<uint8_t>> covered;
+// Zero directions and no texel covered, per atlas of the layout.
+void emptyDirections(const LightmapLayout& layout, LightmapDirections& out, std::vector<std::vector<uint8_t>>& covered) {
     for (const LightmapAtlas& atlas : layout.atlases) {
         const size_t texels = static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
         out.images.emplace_back(texels * 3, 0.0f);
@@ -31,6 +27,15 @@ ChartRecords readDirectionRecords(const Solution& solution, const ReadoutOptions
         out.widths.push_back(atlas.width);
         out.heights.push_back(atlas.height);
     }
+}
+
+}  // namespace
+
+ChartRecords readDirectionRecords(const Solution& solution, const ReadoutOptions& readout, const LightmapLayout& layout,
+                                  std::span<const uint8_t> wanted, ParallelRunner& runner) {
+    LightmapDirections out;
+    std::vector<std::vector<uint8_t>> covered;
+    emptyDirections(layout, out, covered);
     std::optional<LinkReconstruction> links;
     if (readout.gather == GatherMode::Links) links.emplace(solution, readout, runner);
     const auto read = [&](uint32_t mesh, uint32_t triangle, const DVec3& p, const DVec3& n) {
@@ -83,13 +88,7 @@ std::optional<LightmapDirections> assembleDirections(const LightmapLayout& layou
                                                      std::span<const ChartRecords> parts) {
     LightmapDirections out;
     std::vector<std::vector<uint8_t>> covered;
-    for (const LightmapAtlas& atlas : layout.atlases) {
-        const size_t texels = static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
-        out.images.emplace_back(texels * 3, 0.0f);
-        covered.emplace_back(texels, 0);
-        out.widths.push_back(atlas.width);
-        out.heights.push_back(atlas.height);
-    }
+    emptyDirections(layout, out, covered);
     const bool whole = spreadChartRecords(layout, parts, kDirectionRecord, [&](size_t atlas, size_t texel, const uint8_t* record) {
         std::memcpy(&out.images[atlas][3 * texel], record, 3 * sizeof(float));
         covered[atlas][texel] = record[3 * sizeof(float)];

@@ -40,6 +40,21 @@ struct AtlasMask {
     std::vector<std::vector<uint8_t>> seen;   // per real-time light, per texel: visible share x 255
 };
 
+// Nothing reached yet, every light seen whole, for `lights` lights.
+std::vector<AtlasMask> emptyMasks(const LightmapLayout& layout, size_t lights) {
+    std::vector<AtlasMask> atlases(layout.atlases.size());
+    for (size_t a = 0; a < atlases.size(); ++a) {
+        AtlasMask& atlas = atlases[a];
+        atlas.width = layout.atlases[a].width;
+        atlas.height = layout.atlases[a].height;
+        const size_t texels = static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
+        atlas.reach.assign(texels, 0);
+        atlas.covered.assign(texels, 0);
+        atlas.seen.assign(lights, std::vector<uint8_t>(texels, 255));
+    }
+    return atlases;
+}
+
 // `count` points spread over the root elements of `meshes` in proportion to their emitted
 // power (systematic sampling of the roots, stratified within each).
 std::vector<EmitterSample> emitterSamples(const Solution& solution, const std::vector<uint32_t>& meshes, int count) {
@@ -164,16 +179,7 @@ ShadowmaskRecords readShadowmaskRecords(const Solution& solution, const Lightmap
     for (const MaskedSource& source : realtime) out.names.push_back(source.name);
     if (realtime.empty()) return out;
     if (realtime.size() > kMaxMaskedLights) realtime.resize(kMaxMaskedLights);
-    std::vector<AtlasMask> atlases(layout.atlases.size());
-    for (size_t a = 0; a < atlases.size(); ++a) {
-        AtlasMask& atlas = atlases[a];
-        atlas.width = layout.atlases[a].width;
-        atlas.height = layout.atlases[a].height;
-        const size_t texels = static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
-        atlas.reach.assign(texels, 0);
-        atlas.covered.assign(texels, 0);
-        atlas.seen.assign(realtime.size(), std::vector<uint8_t>(texels, 255));
-    }
+    std::vector<AtlasMask> atlases = emptyMasks(layout, realtime.size());
     // Charts' rectangles are disjoint: each task writes its own texels.
     runner.forEach(layout.charts.size(), 1, [&](size_t c) {
         const LightmapChart& chart = layout.charts[c];
@@ -206,16 +212,7 @@ std::optional<Shadowmask> assembleShadowmask(const LightmapLayout& layout, int p
     if (names.empty()) return mask;
     const size_t masked = std::min(names.size(), kMaxMaskedLights);
     mask.lights_without_channel += names.size() - masked;
-    std::vector<AtlasMask> atlases(layout.atlases.size());
-    for (size_t a = 0; a < atlases.size(); ++a) {
-        AtlasMask& atlas = atlases[a];
-        atlas.width = layout.atlases[a].width;
-        atlas.height = layout.atlases[a].height;
-        const size_t texels = static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height);
-        atlas.reach.assign(texels, 0);
-        atlas.covered.assign(texels, 0);
-        atlas.seen.assign(masked, std::vector<uint8_t>(texels, 255));
-    }
+    std::vector<AtlasMask> atlases = emptyMasks(layout, masked);
     std::vector<ChartRecords> records;
     for (const ShadowmaskRecords& part : parts) {
         if (part.names != names) return std::nullopt;
