@@ -138,6 +138,10 @@ TARGETS = [
     ("house.wrl in the browser: worst surface median vs the EXR %", 33, "met", "quick", "web_house", "encoding_worst", "<=", 3.0),
     ("house.wrl in the browser: worst material vs albedo x H/pi %", 33, "met", "quick", "web_house", "material_worst", "<=", 3.0),
     ("house.wrl in the browser: largest decoded step %", 33, "met", "quick", "web_house", "step_max", "<=", 2.0),
+    # A read-out split into shards (issue 29): tools/bench_shards.sh on house.wrl, 7 shards.
+    ("house.wrl, 7 shards merged: one bake's bytes (1 = yes)", 29, "open", "long", "shards_house", "identical", "==", 1),
+    ("house.wrl, 7 shards: CPU summed / one read-out's", 29, "open", "long", "shards_house", "cpu_ratio", "<=", 1.25),
+    ("house.wrl, 7 shards: merge wall / whole bake's", 29, "open", "long", "shards_house", "merge_ratio", "<=", 0.05),
     # graz.wrl (long).
     ("graz.wrl: solve (aabb) s", 11, "met", "long", "graz_solve", "aabb_s", "<=", 30.0),
     ("graz.wrl: solve peak MB", 11, "met", "long", "graz_solve", "rss_mb", "<=", 2048.0),
@@ -197,6 +201,10 @@ NOT_MEASURED = [
      "the solve prints no fraction to read yet"),
     ("graz.wrl at least 4 x faster and the 1M building at least 4.8 x faster than at the start of issue 28",
      28, "a ratio to a start-of-work binary: run this script with --build on both builds"),
+    ("shards N = 1, 3, 7 merged: one bake's bytes on the Cornell box, Duplex, graz.wrl and the 20k building", 29,
+     "the first two are ctest's (tests/cli/test_split_bake.cpp); the others by hand: tools/bench_shards.sh SCENE N"),
+    ("mpirun -np 1, 2, 3: one bake's bytes; 2 ranks at least 1.7 x one process on graz.wrl and the 20k building, "
+     "memory per rank at most 1.3 x", 29, "no MPI build yet"),
 ]
 
 QUALITIES = ("draft", "medium", "high")
@@ -774,6 +782,22 @@ def m_occlusion(r):
     return {"exact_claims": int(m.group(1)), "exact_false": int(m.group(2))}
 
 
+def parse_bench_shards(text):
+    """bench_shards.sh's ratio lines: the shards' CPU over one read-out's, the merge over a bake."""
+    cpu = re.search(r"CPU summed [0-9.]+ s = ([0-9.]+) x the one-process read-out", text)
+    merge = re.search(r"merge: wall [0-9.]+ s = ([0-9.]+) x a whole bake", text)
+    if not cpu or not merge:
+        raise ValueError("bench_shards.sh printed no ratios")
+    return {"cpu_ratio": float(cpu.group(1)), "merge_ratio": float(merge.group(1)),
+            "identical": 1 if "the same bytes as one bake" in text else 0}
+
+
+def m_shards_house(r):
+    out, _ = r.run(["env", "RADBAKE=" + r.program("src/radbake"), "bash", os.path.join(HERE, "bench_shards.sh"),
+                    r.shared("house"), "7", "--read-root", r.scenes], check=False)
+    return parse_bench_shards(out)
+
+
 # measurement -> (function, derived from other measurements?, the measurements it needs)
 MEASUREMENTS = {
     "box_draft": (m_box_quality("draft"), False, []),
@@ -793,6 +817,7 @@ MEASUREMENTS = {
     "house_bake": (m_shared_bake("house", "--no-lightmaps"), False, []),
     "house_solve": (m_shared_solve("house"), False, []),
     "web_house": (m_web("house"), False, []),
+    "shards_house": (m_shards_house, False, []),
     "water_solve": (m_shared_solve("water"), False, []),
     "sphere_bake": (m_shared_bake("sphere", "--no-lightmaps"), False, []),
     "paper_cornell_box": (m_paper("cornell_box"), False, []),
