@@ -198,4 +198,11 @@ TEST_CASE("a shard fed another solution, a merge missing a part or given a forei
     INFO(merged.output);
     CHECK(merged.exit_code == 0);
     CHECK(fs::exists(tmp.path / "out" / "lit.glb"));
+    // The scene edited since the shards read it: refused, naming the part.
+    writeText(tmp.path / "lit.wrl", std::string(kLitRoom) + "# edited\n");
+    const RunResult edited = runRadbake("merge " + quote(tmp.path / "p2") + " " + quote(tmp.path / "p1") + " -o " +
+                                        quote(tmp.path / "out2"));
+    CHECK(edited.exit_code == 1);
+    CHECK(edited.output.find((tmp.path / "p1").string() + ": error: was read from other scene files") != std::string::npos);
+    CHECK_FALSE(fs::exists(tmp.path / "out2"));
 }
