@@ -202,7 +202,8 @@ NOT_MEASURED = [
     ("graz.wrl at least 4 x faster and the 1M building at least 4.8 x faster than at the start of issue 28",
      28, "a ratio to a start-of-work binary: run this script with --build on both builds"),
     ("shards N = 1, 3, 7 merged: one bake's bytes on the Cornell box, Duplex, graz.wrl and the 20k building", 29,
-     "the first two are ctest's (tests/cli/test_split_bake.cpp); the others by hand: tools/bench_shards.sh SCENE N"),
+     "the first two are ctest's (tests/cli/test_split_bake.cpp); the others by hand: tools/bench_shards.sh SCENE N "
+     "(session 23: N = 3 on both)"),
     ("mpirun -np 1, 2, 3: one bake's bytes; 2 ranks at least 1.7 x one process on graz.wrl and the 20k building, "
      "memory per rank at most 1.3 x", 29, "no MPI build yet"),
 ]
