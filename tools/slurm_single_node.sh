@@ -7,7 +7,8 @@
 #   sudo tools/slurm_single_node.sh SCENE [N] [radbake options...]    (as root; default N = 3)
 #
 # Prints each job's id and state and whether the bytes match; exit 1 when they do not. Stops the
-# daemons it started. RADBAKE names the program (default build/src/radbake).
+# Slurm daemons it started; munged, a system service, is left running (stopped and started again
+# between runs, slurmd's registration was refused). RADBAKE names the program (default build/src/radbake).
 set -euo pipefail
 scene="$(realpath "$1")"; shift
 shards="${1:-3}"; [[ $# -gt 0 ]] && shift
@@ -16,10 +17,8 @@ opts=("$@")
 work="$(mktemp -d)"
 node="$(hostname -s)"
 pids=()
-started_munge=no
 cleanup() {
     for pid in "${pids[@]}"; do kill "$pid" 2> /dev/null || true; done
-    [[ $started_munge == yes ]] && pkill -x munged || true
     wait 2> /dev/null || true
     rm -rf "$work"
 }
@@ -52,16 +51,28 @@ CONF
 export SLURM_CONF="$work/slurm.conf"
 if ! pgrep -x munged > /dev/null; then
     mkdir -p /run/munge && chown munge:munge /run/munge
-    runuser -u munge -- /usr/sbin/munged
-    started_munge=yes
+    runuser -u munge -- /usr/sbin/munged --force
 fi
-/usr/sbin/slurmctld -D -f "$SLURM_CONF" > /dev/null 2>&1 & pids+=($!)
-/usr/sbin/slurmd -D -f "$SLURM_CONF" -N "$node" > /dev/null 2>&1 & pids+=($!)
-for _ in $(seq 60); do
-    sinfo -h -o %T 2> /dev/null | grep -q idle && break
-    sleep 1
+for _ in $(seq 30); do  # munged answers once its socket is up
+    munge -n 2> /dev/null | unmunge > /dev/null 2>&1 && break
+    sleep 0.5
 done
-sinfo -h -o "%P %D %T" || { cat "$work/slurmctld.log" "$work/slurmd.log" >&2; exit 1; }
+/usr/sbin/slurmctld -D -f "$SLURM_CONF" > /dev/null 2>&1 & pids+=($!)
+# slurmd's first registration is sometimes refused (a munge authentication error right after
+# the daemons start): it is started again, up to three times, until the node is idle.
+idle=no
+for _ in 1 2 3; do
+    /usr/sbin/slurmd -D -f "$SLURM_CONF" -N "$node" > /dev/null 2>&1 & slurmd=$!
+    for _ in $(seq 20); do
+        sinfo -h -o %T 2> /dev/null | grep -q idle && { idle=yes; break; }
+        sleep 1
+    done
+    [[ $idle == yes ]] && { pids+=($slurmd); break; }
+    kill "$slurmd" 2> /dev/null || true
+    wait "$slurmd" 2> /dev/null || true
+done
+[[ $idle == yes ]] || { cat "$work/slurmctld.log" "$work/slurmd.log" >&2; exit 1; }
+sinfo -h -o "%P %D %T"
 
 # The recipe, as README gives it: each step a job, each waiting for the ones it reads.
 cd "$work/out"
