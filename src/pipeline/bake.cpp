@@ -123,30 +123,26 @@ bool solveFresh(Bake& out, ParallelRunner& runner, Progress& progress, Diagnosti
     return out.solution && !progress.cancelled() && !diagnostics.hasErrors();
 }
 
-// The result's status from the run's state: cancelled, an error reported, or `ok`.
-void settleStatus(Bake& out, Progress& progress, Diagnostics& diagnostics, bool ok) {
-    out.status = progress.cancelled()        ? BakeStatus::Cancelled
-                 : diagnostics.hasErrors() || !ok ? BakeStatus::InputError
-                                                 : BakeStatus::Ok;
-}
-
 // `radbake solve`: the stages up to the solve, kept when the solution file already holds this
-// scene's solution for these solver settings; sets out.status.
+// scene's solution for these solver settings; sets out.status (InputError, the Bake's default,
+// on a failure nothing reported).
 void solveStages(Bake& out, bool& kept, Progress& progress, Diagnostics& diagnostics) {
+    StageRun run{out, ParallelRunner(out.options.threading, progress.cancelFlag()), progress, diagnostics};
     const Scene& scene = *out.scene;
-    ParallelRunner runner(out.options.threading, progress.cancelFlag());
-    if (!checkBakeable(scene, diagnostics)) return settleStatus(out, progress, diagnostics, false);
+    if (!checkBakeable(scene, diagnostics)) return (void)run.stopped();
     const std::string key = solutionKey(scene, out.options.solver);
     kept = solutionFileHolds(key, out.options.solution_file);
-    if (kept) return settleStatus(out, progress, diagnostics, true);
-    if (!solveFresh(out, runner, progress, diagnostics)) return settleStatus(out, progress, diagnostics, false);
-    out.report.solve = out.solution->stats;
-    progress.beginPhase("write");
-    const bool saved = saveSolution(*out.solution, key, out.options.solution_file, diagnostics);
-    if (!saved)
-        diagnostics.error({out.options.solution_file, 0, 0}, "the solution was not written (the warning above says why)");
-    progress.endPhase();
-    settleStatus(out, progress, diagnostics, saved);
+    if (!kept) {
+        if (!solveFresh(out, run.runner, progress, diagnostics)) return (void)run.stopped();
+        out.report.solve = out.solution->stats;
+        progress.beginPhase("write");
+        if (!saveSolution(*out.solution, key, out.options.solution_file, diagnostics)) {
+            diagnostics.error({out.options.solution_file, 0, 0}, "the solution was not written (the warning above says why)");
+            return (void)run.stopped();
+        }
+        progress.endPhase();
+    }
+    if (!run.stopped()) out.status = BakeStatus::Ok;
 }
 
 }  // namespace
