@@ -3,7 +3,8 @@
 set -euo pipefail
 packages=(cmake ninja-build g++ pkg-config python3
           libassimp-dev libopenexr-dev libglm-dev libstb-dev doctest-dev
-          libembree-dev libtbb-dev libcli11-dev zlib1g-dev libssl-dev nlohmann-json3-dev)
+          libembree-dev libtbb-dev libcli11-dev zlib1g-dev libssl-dev nlohmann-json3-dev
+          libopenmpi-dev openmpi-bin)  # MPI is optional for a build; the tests run bakes on ranks
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -148,10 +148,33 @@ void runGuarded(const std::string& scene, const char* doing, int& result, const 
     }
 }
 
-int runBakeInto(const BakeArgs& args, const MakeBake& make, const std::vector<std::string>& extra_inputs) {
-    Progress progress(progressStyleOf(args.quiet));
+const Ranks& stepRanks(const char* step, bool shares) {
+    const Ranks& world = Ranks::world();
+    if (world.size() > 1 && !shares)
+        throw std::runtime_error(std::string("radbake ") + step + " runs as one process: mpirun started " +
+                                 std::to_string(world.size()) + " (only bake and solve share their work between ranks)");
+    return shares ? world : Ranks::one();
+}
+
+void routeRankDiagnostics(const Ranks& ranks, Diagnostics& diagnostics, Progress& progress) {
+    if (ranks.lead()) return routeDiagnostics(diagnostics, progress);
+    const std::string mark = "rank " + std::to_string(ranks.rank()) + ": ";
+    diagnostics.sink = [mark](const Diagnostic& d) {
+        if (d.severity == Severity::Error) std::fprintf(stderr, "%s%s\n", mark.c_str(), formatDiagnostic(d).c_str());
+    };
+}
+
+int runBakeInto(const BakeArgs& args, const Ranks& ranks, const MakeBake& make,
+                const std::vector<std::string>& extra_inputs) {
+    Progress progress(progressStyleOf(args.quiet || !ranks.lead()));
     Diagnostics diagnostics;
-    routeDiagnostics(diagnostics, progress);
+    routeRankDiagnostics(ranks, diagnostics, progress);
+    if (!ranks.lead()) {  // the lead alone writes
+        BakeOptions options = bakeOptions(args);
+        options.threading.ranks = &ranks;
+        if (!readBakeSideFiles(args, options, diagnostics)) return kExitInputError;
+        return make(options, progress, diagnostics).ok() ? kExitOk : kExitInputError;
+    }
     // An interrupted content build leaves no temporary directory behind.
     cleanUpStagingOnSignals();
 
@@ -166,6 +189,7 @@ int runBakeInto(const BakeArgs& args, const MakeBake& make, const std::vector<st
     if (!transaction.begin(diagnostics) || !claimOutputFolder(transaction, sceneNameOf(args.scene), diagnostics))
         return kExitInputError;
     BakeOptions options = bakeOptions(args);
+    options.threading.ranks = &ranks;
     if (!readBakeSideFiles(args, options, diagnostics)) return kExitInputError;
     const Bake result = make(options, progress, diagnostics);
     if (!result.ok()) return kExitInputError;

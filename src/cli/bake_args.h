@@ -68,13 +68,21 @@ ProgressStyle progressStyleOf(bool quiet);
 // Diagnostics go to stderr; notes only when the run is interactive (not quiet, a terminal).
 void routeDiagnostics(Diagnostics& diagnostics, Progress& progress);
 
+// The ranks a step runs on. A step that shares its work (bake, solve) runs on the processes
+// mpirun started; any other is refused (thrown) when mpirun started more than one of it.
+const Ranks& stepRanks(const char* step, bool shares);
+// A rank other than the lead reports its errors only, each marked with its rank, and shows no
+// progress; the lead reports as routeDiagnostics does.
+void routeRankDiagnostics(const Ranks& ranks, Diagnostics& diagnostics, Progress& progress);
+
 // What writes a bake folder: a bake made from the options (a whole bake, or merged shards).
 using MakeBake = std::function<Bake(const BakeOptions& options, Progress& progress, Diagnostics& diagnostics)>;
 // `radbake bake`'s run around `make`: the output folder (args.out_dir, default baked/<scene
 // name>) locked and claimed before any work, the side files read, the bake committed all or
 // nothing, the depfile (the bake's inputs, then `extra_inputs`) and the one-line summary. The
-// exit code.
-int runBakeInto(const BakeArgs& args, const MakeBake& make, const std::vector<std::string>& extra_inputs = {});
+// exit code. With several ranks, every rank makes the bake and the lead alone writes.
+int runBakeInto(const BakeArgs& args, const Ranks& ranks, const MakeBake& make,
+                const std::vector<std::string>& extra_inputs = {});
 
 // The program's outer boundary for a command on `scene`: nothing escapes; unwinding abandons
 // the outputs. Sets `result` to run()'s exit code, or 1 after printing what was thrown.

@@ -19,7 +19,7 @@ namespace radbake::cli {
 namespace {
 
 int runBake(const BakeArgs& args) {
-    return runBakeInto(args, [&](const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
+    return runBakeInto(args, stepRanks("bake", true), [&](const BakeOptions& options, Progress& progress, Diagnostics& diagnostics) {
         return bake(args.scene, options, progress, diagnostics);
     });
 }

@@ -59,6 +59,7 @@ bool parseShard(const std::string& text, uint32_t& k, uint32_t& n) {
 }
 
 int runGather(const GatherArgs& args) {
+    stepRanks("gather", false);
     Progress progress(progressStyleOf(args.bake.quiet));
     Diagnostics diagnostics;
     routeDiagnostics(diagnostics, progress);
@@ -131,7 +132,7 @@ int runMerge(const MergeArgs& args) {
     for (const std::string& folder : args.parts)
         part_files.push_back((std::filesystem::path(folder) / kPartFile).lexically_normal().string());
     return runBakeInto(
-        bake,
+        bake, stepRanks("merge", false),
         [&](const BakeOptions& options, Progress& progress, Diagnostics& d) {
             return mergeParts(bake.scene, options, parts, progress, d);
         },

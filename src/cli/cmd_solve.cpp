@@ -19,12 +19,16 @@ namespace radbake::cli {
 namespace {
 
 int runSolve(const BakeArgs& args) {
-    Progress progress(progressStyleOf(args.quiet));
+    const Ranks& ranks = stepRanks("solve", true);
+    Progress progress(progressStyleOf(args.quiet || !ranks.lead()));
     Diagnostics diagnostics;
-    routeDiagnostics(diagnostics, progress);
-    if (!depfileWritable(args, diagnostics)) return kExitInputError;
-    const SolveOnly solved = solveOnly(args.scene, bakeOptions(args), progress, diagnostics);
+    routeRankDiagnostics(ranks, diagnostics, progress);
+    if (ranks.lead() && !depfileWritable(args, diagnostics)) return kExitInputError;
+    BakeOptions options = bakeOptions(args);
+    options.threading.ranks = &ranks;
+    const SolveOnly solved = solveOnly(args.scene, options, progress, diagnostics);
     if (!solved.ok()) return kExitInputError;
+    if (!ranks.lead()) return kExitOk;  // the lead alone writes
     if (!args.depfile.empty() &&
         !writeDepfile(args.depfile, {args.solution_file}, solved.input_files, diagnostics))
         return kExitInputError;

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "core/ranks.h"
 
 namespace radbake::cli {
 
@@ -37,6 +38,13 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         app.exit(e);
         return kExitUsage;
+    }
+    // A rank that failed ends the others, which may be waiting for it in an exchange.
+    if (result != kExitOk && radbake::Ranks::launchedByMpi()) {
+        try {
+            radbake::Ranks::world().abortAll(result);
+        } catch (const std::exception&) {
+        }
     }
     return result;
 }

@@ -58,7 +58,8 @@ struct ParallelRunner::Impl {
     explicit Impl(int threads) : arena(threads) {}
 };
 
-ParallelRunner::ParallelRunner(Threading threading, const std::atomic<bool>* cancel) : cancel_(cancel) {
+ParallelRunner::ParallelRunner(Threading threading, const std::atomic<bool>* cancel)
+    : cancel_(cancel), ranks_(threading.ranks) {
     const int cores = tbb::info::default_concurrency();
     threads_ = threading.threads > 0 ? threading.threads : cores;
     impl_ = std::make_unique<Impl>(threads_);

@@ -4,10 +4,15 @@
 // Workers may be pinned to cores when asked (on the shared 2-core machines unpinned workers
 // were seen to share one core). Loops hand out indices only; every result lands in its own
 // slot, so the output never depends on the thread count or on scheduling.
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <stdexcept>
+
+#include "core/binary_records.h"
+#include "core/ranks.h"
 
 namespace radbake {
 
@@ -15,6 +20,7 @@ namespace radbake {
 struct Threading {
     int threads = 0;   // 0: all cores
     bool pin = false;  // bind each worker to one core (only when each can have its own)
+    const Ranks* ranks = nullptr;  // the processes that share the loops marked shared; nullptr: this one
 };
 
 class ParallelRunner {
@@ -28,6 +34,7 @@ public:
     ParallelRunner& operator=(const ParallelRunner&) = delete;
 
     int threads() const { return threads_; }
+    const Ranks& ranks() const { return ranks_ ? *ranks_ : kOneRank; }
     bool cancelled() const { return cancel_ && cancel_->load(std::memory_order_relaxed); }
 
     // Calls body(begin, end) on disjoint ranges covering [0, count), grain indices at least.
@@ -40,6 +47,44 @@ public:
         });
     }
 
+    // A loop shared between ranks: compute(i) for this rank's share of [0, count) (blocks of
+    // `block` items, Ranks::owns) on this runner's threads; then encode(Writer&, i) writes each
+    // own item's result and decode(Reader&, i) reads every other rank's, in the same order. With
+    // one rank, forEach(count, block, compute). Collective: every rank calls it with the same count.
+    template <class Compute, class Encode, class Decode>
+    void forEachShared(size_t count, size_t block, Compute&& compute, Encode&& encode, Decode&& decode) {
+        const Ranks& r = ranks();
+        if (r.size() == 1) return forEach(count, block, compute);
+        block = block > 0 ? block : 1;
+        const size_t blocks = (count + block - 1) / block, size = static_cast<size_t>(r.size());
+        const auto ownBlocks = [&](size_t rank) { return blocks > rank ? (blocks - rank + size - 1) / size : 0; };
+        const auto forOwn = [&](size_t rank, auto&& f) {
+            for (size_t j = 0; j < ownBlocks(rank); ++j)
+                for (size_t i = (rank + j * size) * block, end = std::min(count, i + block); i < end; ++i) f(i);
+        };
+        const size_t me = static_cast<size_t>(r.rank());
+        forEach(ownBlocks(me), 1, [&](size_t j) {
+            for (size_t i = (me + j * size) * block, end = std::min(count, i + block); i < end; ++i) compute(i);
+        });
+        Writer writer;
+        forOwn(me, [&](size_t i) { encode(writer, i); });
+        const std::vector<std::string> all = r.allGather(writer.bytes);
+        for (size_t rank = 0; rank < size; ++rank) {
+            if (rank == me) continue;
+            Reader reader{all[rank]};
+            forOwn(rank, [&](size_t i) { decode(reader, i); });
+            if (!reader.ok || reader.at != all[rank].size())
+                throw std::runtime_error("rank " + std::to_string(rank) + " sent results that do not fit its share");
+        }
+    }
+    // forEachShared for results that are trivially copyable values, one per item in `slots`.
+    template <class T, class Compute>
+    void forEachSharedSlot(std::vector<T>& slots, size_t block, Compute&& compute) {
+        forEachShared(
+            slots.size(), block, compute, [&](Writer& w, size_t i) { w.value(slots[i]); },
+            [&](Reader& r, size_t i) { r.value(slots[i]); });
+    }
+
     // Runs `work` inside this runner's arena, so a library's own TBB loops in it (Embree's
     // BVH build) use this runner's threads and no more.
     void execute(const std::function<void()>& work);
@@ -49,6 +94,8 @@ private:
     std::unique_ptr<Impl> impl_;
     int threads_ = 1;
     const std::atomic<bool>* cancel_ = nullptr;
+    const Ranks* ranks_ = nullptr;
+    static inline const Ranks kOneRank{};
 };
 
 }  // namespace radbake

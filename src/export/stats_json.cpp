@@ -120,6 +120,10 @@ std::string formatTimingsJson(const BakeReport& r) {
     out["peak_rss_mb"] = r.peak_rss_mb;
     out["memory_budget_mb"] = r.solve.memory_budget_mb;  // from the machine's memory unless --max-memory
     out["threads"] = r.threads;
+    if (r.ranks > 1) {
+        out["ranks"] = r.ranks;
+        out["exchanged_mb"] = r.exchanged_mb;
+    }
     return json_detail::dump(out, 2) + "\n";
 }
 

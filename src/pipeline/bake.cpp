@@ -131,10 +131,15 @@ void solveStages(Bake& out, bool& kept, Progress& progress, Diagnostics& diagnos
     const Scene& scene = *out.scene;
     if (!checkBakeable(scene, diagnostics)) return (void)run.stopped();
     const std::string key = solutionKey(scene, out.options.solver);
-    kept = solutionFileHolds(key, out.options.solution_file);
+    // The lead's file decides (the other ranks may run where it is not).
+    const Ranks& ranks = run.runner.ranks();
+    std::string holds = ranks.lead() && solutionFileHolds(key, out.options.solution_file) ? "kept" : "";
+    ranks.broadcast(holds);
+    kept = !holds.empty();
     if (!kept) {
         if (!solveFresh(out, run.runner, progress, diagnostics)) return (void)run.stopped();
         out.report.solve = out.solution->stats;
+        if (!ranks.lead()) return (void)(out.status = BakeStatus::Ok);
         progress.beginPhase("write");
         if (!saveSolution(*out.solution, key, out.options.solution_file, diagnostics)) {
             diagnostics.error({out.options.solution_file, 0, 0}, "the solution was not written (the warning above says why)");
@@ -274,6 +279,8 @@ void finishStages(StageRun& run) {
     out.report.phases = run.progress.phaseSeconds();
     out.report.seconds = run.progress.totalSeconds();
     out.report.peak_rss_mb = peakRssMegabytes();
+    out.report.ranks = run.runner.ranks().size();
+    out.report.exchanged_mb = static_cast<double>(run.runner.ranks().exchangedBytes()) / (1024.0 * 1024.0);
     out.report.warnings = run.diagnostics.warningCount();
     out.status = BakeStatus::Ok;
 }
@@ -297,16 +304,17 @@ void bakeStages(Bake& out, Progress& progress, Diagnostics& diagnostics) {
         beginPhase("saved solution");
         solution_key = solutionKey(scene, options.solver);
         out.solution = loadSolution(scene, options.solver, solution_key, options.solution_file, runner.threads(),
-                                    diagnostics);
+                                    diagnostics, runner.ranks());
         if (stopped()) return;
     }
     if (!out.solution) {
         if (!solveFresh(out, runner, progress, diagnostics)) return (void)stopped();
-        if (!options.solution_file.empty())
+        if (!options.solution_file.empty() && runner.ranks().lead())
             saveSolution(*out.solution, solution_key, options.solution_file, diagnostics);
     }
     out.report.options = options.solver;
     out.report.solve = out.solution->stats;
+    if (runner.ranks().size() > 1) return readOutAcrossRanks(run, std::move(charts));
 
     const RealtimeEmissionLeftOut realtime_emission(*out.solution);  // after the solution is saved
     beginPhase("vertices");

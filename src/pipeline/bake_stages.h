@@ -45,6 +45,10 @@ ReadoutReport readoutReport(const ReadoutWork& work);
 // the file names and the report; sets out.lightmaps.
 void completeLightmaps(StageRun& run, BakedLightmaps baked, const LightmapOptions& used, const Solution* solution,
                        const ReadoutOptions& readout);
+// With more than one rank (run.runner.ranks()), after the solve: each rank reads its shard of
+// the read-out (shards.h), the lead assembles them and finishes the bake; the other ranks' Bake
+// is Ok with no outputs.
+void readOutAcrossRanks(StageRun& run, std::optional<LightmapCharts> charts);
 // After the read-out: the previews, the report's times, status Ok.
 void finishStages(StageRun& run);
 

@@ -72,6 +72,104 @@ bool prepareShardStep(StageRun& run, std::optional<LightmapLayout>& layout,
     return !run.stopped();
 }
 
+// Shard part.shard of part.shards of the read-out, from out.solution, into `part`; false when stopped.
+bool readShard(StageRun& run, const LightmapLayout* lightmap_layout, const LightmapOptions* lightmap_options,
+               ReadoutPart& part) {
+    Bake& out = run.out;
+    const Scene& scene = *out.scene;
+    const uint32_t shard = part.shard, shards = part.shards;
+    const RealtimeEmissionLeftOut realtime_emission(*out.solution);
+    const ReadoutOptions readout = readoutOptionsOf(out.options);
+    run.beginPhase("vertices");
+    const auto [begin, end] = shardRange(vertexPointCosts(scene), shard, shards);
+    part.vertices = readVertexPoints(scene, *out.solution, readout, run.runner, begin, end, &run.progress);
+    if (run.stopped()) return false;
+    if (lightmap_layout) {
+        const LightmapLayout& layout = *lightmap_layout;
+        const LightmapOptions& used = *lightmap_options;
+        run.beginPhase("lightmaps");
+        std::vector<double> texels;
+        for (const LightmapChart& chart : layout.charts)
+            texels.push_back(chart.atlas < 0 ? 0.0 : static_cast<double>(chart.width) * chart.height);
+        const auto [first, last] = shardRange(texels, shard, shards);
+        std::vector<uint8_t> wanted(layout.charts.size(), 0);
+        std::fill(wanted.begin() + static_cast<std::ptrdiff_t>(first), wanted.begin() + static_cast<std::ptrdiff_t>(last), 1);
+        part.lightmaps = readLightmapPart(scene, *out.solution, readout, layout, used, wanted, run.runner, &run.progress);
+        if (run.stopped()) return false;
+        part.shadowmask = readShadowmaskRecords(*out.solution, layout, wanted, run.runner);
+        if (out.options.lightmaps.directional)
+            part.directions = readDirectionRecords(*out.solution, readout, layout, wanted, run.runner);
+        if (run.stopped()) return false;
+    }
+    if (out.options.probes) {
+        run.beginPhase("probes");
+        const std::vector<double> each(out.options.probes->size(), 1.0);
+        const auto [probe_begin, probe_end] = shardRange(each, shard, shards);
+        part.probe_begin = probe_begin;
+        part.probe_end = probe_end;
+        part.probes = evaluateProbes(*out.solution, readout, *out.options.probes,
+                                     static_cast<double>(out.options.import.unit_scale), run.runner, run.progress,
+                                     probe_begin, probe_end);
+        if (run.stopped()) return false;
+    }
+    return true;
+}
+
+// The read-out assembled from every shard's part (in shard order, checked), and the bake finished.
+void assembleParts(StageRun& run, LightmapLayout* lightmap_layout, const LightmapOptions* lightmap_options,
+                   const std::vector<ReadoutPart>& parts) {
+    Bake& out = run.out;
+    const Scene& scene = *out.scene;
+    const SourceLocation where{scene.source_path, 0, 0};
+    out.report.options = out.options.solver;
+    out.report.solve = parts.front().solve;
+    run.beginPhase("merge");
+    std::vector<VertexPointLight> vertices;
+    for (const ReadoutPart& part : parts) vertices.push_back(part.vertices);
+    std::optional<VertexBake> assembled = assembleVertices(scene, vertices);
+    const size_t probe_count = out.options.probes ? out.options.probes->size() : 0;
+    size_t next_probe = 0;
+    for (const ReadoutPart& part : parts) {
+        if (part.probe_begin != next_probe || part.probe_end - part.probe_begin != part.probes.size()) break;
+        out.probe_irradiance.insert(out.probe_irradiance.end(), part.probes.begin(), part.probes.end());
+        next_probe = part.probe_end;
+    }
+    if (!assembled || next_probe != probe_count || out.probe_irradiance.size() != probe_count) {
+        run.diagnostics.error(where, "the parts do not cover the scene's vertices and probes once each "
+                                     "(read with other options than the merge's?)");
+        return (void)run.stopped();
+    }
+    out.vertices = std::move(*assembled);
+    out.report.vertex_readout = readoutReport(out.vertices.work);
+    if (lightmap_layout) {
+        LightmapLayout& layout = *lightmap_layout;
+        const LightmapOptions& used = *lightmap_options;
+        std::vector<LightmapPart> lightmaps;
+        for (const ReadoutPart& part : parts) lightmaps.push_back(part.lightmaps);
+        std::vector<ShadowmaskRecords> masks;
+        std::vector<ChartRecords> directions;
+        for (const ReadoutPart& part : parts) {
+            masks.push_back(part.shadowmask);
+            directions.push_back(part.directions);
+        }
+        BakedLightmaps baked;
+        std::optional<Shadowmask> mask =
+            assembleShadowmask(layout, used.padding, masks, scene.source_path, run.diagnostics);
+        std::optional<LightmapDirections> rebuilt;
+        if (out.options.lightmaps.directional) rebuilt = assembleDirections(layout, used.padding, directions);
+        if (!mask || (out.options.lightmaps.directional && !rebuilt) ||
+            !assembleLightmaps(scene, std::move(layout), used, lightmaps, run.runner, baked.lightmaps)) {
+            run.diagnostics.error(where, "the parts do not cover the scene's lightmap charts once each "
+                                         "(read with other options than the merge's?)");
+            return (void)run.stopped();
+        }
+        baked.shadowmask = std::move(*mask);
+        if (rebuilt) baked.directions = std::move(*rebuilt);
+        completeLightmaps(run, std::move(baked), used, nullptr, readoutOptionsOf(out.options));
+    }
+    finishStages(run);
+}
+
 }  // namespace
 
 std::pair<size_t, size_t> shardRange(const std::vector<double>& costs, uint32_t shard, uint32_t shards) {
@@ -121,44 +219,44 @@ std::optional<ReadoutPart> gatherShard(const std::string& path, const BakeOption
             return (void)run.stopped();
         }
         part.solve = out.solution->stats;
-        const RealtimeEmissionLeftOut realtime_emission(*out.solution);
-        const ReadoutOptions readout = readoutOptionsOf(out.options);
-        run.beginPhase("vertices");
-        const auto [begin, end] = shardRange(vertexPointCosts(scene), shard, shards);
-        part.vertices = readVertexPoints(scene, *out.solution, readout, run.runner, begin, end, &p);
-        if (run.stopped()) return;
-        if (layout) {
-            run.beginPhase("lightmaps");
-            std::vector<double> texels;
-            for (const LightmapChart& chart : layout->charts)
-                texels.push_back(chart.atlas < 0 ? 0.0 : static_cast<double>(chart.width) * chart.height);
-            const auto [first, last] = shardRange(texels, shard, shards);
-            std::vector<uint8_t> wanted(layout->charts.size(), 0);
-            std::fill(wanted.begin() + static_cast<std::ptrdiff_t>(first), wanted.begin() + static_cast<std::ptrdiff_t>(last), 1);
-            part.lightmaps = readLightmapPart(scene, *out.solution, readout, *layout, *used, wanted, run.runner, &p);
-            if (run.stopped()) return;
-            part.shadowmask = readShadowmaskRecords(*out.solution, *layout, wanted, run.runner);
-            if (out.options.lightmaps.directional)
-                part.directions = readDirectionRecords(*out.solution, readout, *layout, wanted, run.runner);
-            if (run.stopped()) return;
-        }
-        if (out.options.probes) {
-            run.beginPhase("probes");
-            const std::vector<double> each(out.options.probes->size(), 1.0);
-            const auto [probe_begin, probe_end] = shardRange(each, shard, shards);
-            part.probe_begin = probe_begin;
-            part.probe_end = probe_end;
-            part.probes = evaluateProbes(*out.solution, readout, *out.options.probes,
-                                         static_cast<double>(out.options.import.unit_scale), run.runner, p, probe_begin,
-                                         probe_end);
-            if (run.stopped()) return;
-        }
+        if (!readShard(run, layout ? &*layout : nullptr, used ? &*used : nullptr, part)) return;
         p.endPhase();
         out.status = BakeStatus::Ok;
     };
     const Bake done = importAndRun(path, options, progress, diagnostics, stages);
     if (!done.ok()) return std::nullopt;
     return part;
+}
+
+void readOutAcrossRanks(StageRun& run, std::optional<LightmapCharts> charts) {
+    Bake& out = run.out;
+    const Ranks& ranks = run.runner.ranks();
+    std::optional<LightmapLayout> layout;
+    std::optional<LightmapOptions> used;
+    if (charts) {
+        used = charts->options;
+        layout.emplace();
+        if (!packLightmapCharts(std::move(charts->charts), *used, *layout, run.diagnostics) || run.stopped())
+            return (void)run.stopped();
+    }
+    ReadoutPart part;
+    part.shard = static_cast<uint32_t>(ranks.rank()) + 1;
+    part.shards = static_cast<uint32_t>(ranks.size());
+    part.solve = out.solution->stats;
+    if (!readShard(run, layout ? &*layout : nullptr, used ? &*used : nullptr, part)) return;
+    const std::vector<std::string> bytes = ranks.gatherToLead(encodeReadoutPart(part));
+    if (!ranks.lead()) {
+        out.status = BakeStatus::Ok;
+        return;
+    }
+    std::vector<ReadoutPart> parts;
+    for (size_t k = 0; k < bytes.size(); ++k) {
+        std::optional<ReadoutPart> decoded =
+            decodeReadoutPart(bytes[k], "the read-out of rank " + std::to_string(k), run.diagnostics);
+        if (!decoded) return (void)run.stopped();
+        parts.push_back(std::move(*decoded));
+    }
+    assembleParts(run, layout ? &*layout : nullptr, used ? &*used : nullptr, parts);
 }
 
 Bake mergeParts(const std::string& path, const BakeOptions& options, const std::vector<ReadoutPart>& given,
@@ -173,55 +271,12 @@ Bake mergeParts(const std::string& path, const BakeOptions& options, const std::
         const Scene& scene = *out.scene;
         if (!checkParts(parts, out.inputs_sha256, solutionKey(scene, out.options.solver), {path, 0, 0}, d))
             return (void)run.stopped();
-        out.report.options = out.options.solver;
-        out.report.solve = parts.front().solve;
-        run.beginPhase("merge");
-        std::vector<VertexPointLight> vertices;
-        for (const ReadoutPart& part : parts) vertices.push_back(part.vertices);
-        std::optional<VertexBake> assembled = assembleVertices(scene, vertices);
-        const size_t probe_count = out.options.probes ? out.options.probes->size() : 0;
-        size_t next_probe = 0;
-        for (const ReadoutPart& part : parts) {
-            if (part.probe_begin != next_probe || part.probe_end - part.probe_begin != part.probes.size()) break;
-            out.probe_irradiance.insert(out.probe_irradiance.end(), part.probes.begin(), part.probes.end());
-            next_probe = part.probe_end;
-        }
-        if (!assembled || next_probe != probe_count || out.probe_irradiance.size() != probe_count) {
-            d.error({path, 0, 0}, "the parts do not cover the scene's vertices and probes once each "
-                                  "(read with other options than the merge's?)");
-            return (void)run.stopped();
-        }
-        out.vertices = std::move(*assembled);
-        out.report.vertex_readout = readoutReport(out.vertices.work);
-        if (layout) {
-            std::vector<LightmapPart> lightmaps;
-            for (const ReadoutPart& part : parts) lightmaps.push_back(part.lightmaps);
-            std::vector<ShadowmaskRecords> masks;
-            std::vector<ChartRecords> directions;
-            for (const ReadoutPart& part : parts) {
-                masks.push_back(part.shadowmask);
-                directions.push_back(part.directions);
-            }
-            BakedLightmaps baked;
-            std::optional<Shadowmask> mask = assembleShadowmask(*layout, used->padding, masks, scene.source_path, d);
-            std::optional<LightmapDirections> rebuilt;
-            if (out.options.lightmaps.directional) rebuilt = assembleDirections(*layout, used->padding, directions);
-            if (!mask || (out.options.lightmaps.directional && !rebuilt) ||
-                !assembleLightmaps(scene, std::move(*layout), *used, lightmaps, run.runner, baked.lightmaps)) {
-                d.error({path, 0, 0}, "the parts do not cover the scene's lightmap charts once each "
-                                      "(read with other options than the merge's?)");
-                return (void)run.stopped();
-            }
-            baked.shadowmask = std::move(*mask);
-            if (rebuilt) baked.directions = std::move(*rebuilt);
-            completeLightmaps(run, std::move(baked), *used, nullptr, readoutOptionsOf(out.options));
-        }
-        finishStages(run);
+        assembleParts(run, layout ? &*layout : nullptr, used ? &*used : nullptr, parts);
     };
     return importAndRun(path, options, progress, diagnostics, stages);
 }
 
-void stageReadoutPart(const ReadoutPart& part, OutputTransaction& transaction, Diagnostics& diagnostics) {
+std::string encodeReadoutPart(const ReadoutPart& part) {
     Writer w;
     w.bytes = kPartMagic;
     w.value(part.shard);
@@ -255,24 +310,17 @@ void stageReadoutPart(const ReadoutPart& part, OutputTransaction& transaction, D
     w.value(part.probe_begin);
     w.value(part.probe_end);
     w.array(part.probes);
-    writeFileBytes(transaction.stage(kPartFile), w.bytes, diagnostics);
+    return std::move(w.bytes);
 }
 
-std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, Diagnostics& diagnostics) {
-    const std::filesystem::path file = folder / kPartFile;
-    std::string why;
-    const std::optional<std::string> bytes = readRegularFile(file.string(), why);
-    if (!bytes) {
-        diagnostics.error({folder.string(), 0, 0}, "is not a read-out part (" + file.filename().string() + ": " + why + ")");
-        return std::nullopt;
-    }
-    if (bytes->compare(0, sizeof kPartMagic - 1, kPartMagic) != 0) {
-        diagnostics.error({file.string(), 0, 0}, "is not a read-out part of this radbake");
+std::optional<ReadoutPart> decodeReadoutPart(const std::string& bytes, const std::string& where,
+                                             Diagnostics& diagnostics) {
+    if (bytes.compare(0, sizeof kPartMagic - 1, kPartMagic) != 0) {
+        diagnostics.error({where, 0, 0}, "is not a read-out part of this radbake");
         return std::nullopt;
     }
     ReadoutPart part;
-    part.folder = folder.string();
-    Reader r{*bytes, sizeof kPartMagic - 1};
+    Reader r{bytes, sizeof kPartMagic - 1};
     uint64_t begin = 0, end = 0;
     r.value(part.shard);
     r.value(part.shards);
@@ -297,7 +345,7 @@ std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, 
     r.value(l.work);
     uint64_t names = 0;
     r.value(names);
-    for (uint64_t k = 0; k < names && r.ok && k <= bytes->size(); ++k) readString(r, part.shadowmask.names.emplace_back());
+    for (uint64_t k = 0; k < names && r.ok && k <= bytes.size(); ++k) readString(r, part.shadowmask.names.emplace_back());
     for (ChartRecords* records : {&part.shadowmask.records, &part.directions}) {
         r.array(records->charts);
         r.value(records->size);
@@ -308,10 +356,27 @@ std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, 
     r.array(part.probes);
     part.vertices.begin = begin;
     part.vertices.end = end;
-    if (!r.ok || r.at != bytes->size() || part.shard < 1 || part.shard > part.shards) {
-        diagnostics.error({file.string(), 0, 0}, "the read-out part is damaged");
+    if (!r.ok || r.at != bytes.size() || part.shard < 1 || part.shard > part.shards) {
+        diagnostics.error({where, 0, 0}, "the read-out part is damaged");
         return std::nullopt;
     }
+    return part;
+}
+
+void stageReadoutPart(const ReadoutPart& part, OutputTransaction& transaction, Diagnostics& diagnostics) {
+    writeFileBytes(transaction.stage(kPartFile), encodeReadoutPart(part), diagnostics);
+}
+
+std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, Diagnostics& diagnostics) {
+    const std::filesystem::path file = folder / kPartFile;
+    std::string why;
+    const std::optional<std::string> bytes = readRegularFile(file.string(), why);
+    if (!bytes) {
+        diagnostics.error({folder.string(), 0, 0}, "is not a read-out part (" + file.filename().string() + ": " + why + ")");
+        return std::nullopt;
+    }
+    std::optional<ReadoutPart> part = decodeReadoutPart(*bytes, file.string(), diagnostics);
+    if (part) part->folder = folder.string();
     return part;
 }
 

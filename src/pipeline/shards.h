@@ -55,6 +55,10 @@ Bake mergeParts(const std::string& path, const BakeOptions& options, const std::
 // A part's file in its folder, staged into `transaction`; and read back (nullopt after a
 // located error: absent, not a part, damaged).
 inline constexpr char kPartFile[] = "readout.part";
+std::string encodeReadoutPart(const ReadoutPart& part);
+// nullopt after an error located at `where` (not a part, damaged).
+std::optional<ReadoutPart> decodeReadoutPart(const std::string& bytes, const std::string& where,
+                                             Diagnostics& diagnostics);
 void stageReadoutPart(const ReadoutPart& part, OutputTransaction& transaction, Diagnostics& diagnostics);
 std::optional<ReadoutPart> readReadoutPart(const std::filesystem::path& folder, Diagnostics& diagnostics);
 

@@ -4,12 +4,14 @@
 
 #include <fstream>
 
+#include <cstddef>
 #include <cstring>
 #include <system_error>
 #include <type_traits>
 #include <vector>
 
 #include "core/binary_records.h"
+#include "core/memory.h"
 #include "core/regular_file.h"
 #include "export/hash.h"
 #include "export/output_transaction.h"
@@ -102,7 +104,13 @@ bool saveSolution(const Solution& s, const std::string& key, const std::filesyst
     w.array(s.cluster_kernel);
     w.value(s.scene_extent);
     w.value(s.total_area);
+    // The stats as they are, padding included (zero: Solution's constructor); but the budget,
+    // this machine's memory rather than the solution's, is written as 0, so a solve writes the
+    // same bytes on any machine (a loaded solution takes the loading run's budget).
+    const size_t stats_at = w.bytes.size();
     w.value(s.stats);
+    const double no_budget = 0.0;
+    std::memcpy(w.bytes.data() + stats_at + offsetof(SolveStats, memory_budget_mb), &no_budget, sizeof no_budget);
     const std::string why = replaceRegularFile(file, w.bytes);
     if (why.empty()) return true;
     diagnostics.warning({file.string(), 0, 0}, "could not write the solution cache: " + why);
@@ -142,35 +150,51 @@ bool solutionFileHolds(const std::string& key, const std::filesystem::path& file
     return bytes && bytes->compare(0, header.size(), header) == 0 && parseSolution(*bytes, header.size());
 }
 
-std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
-                                     const std::filesystem::path& file, int threads, Diagnostics& diagnostics) {
+namespace {
+
+// The saved solution's bytes when `file` holds one under `key`; empty otherwise (a note or an
+// error says why, as loadSolution's comment tells).
+std::string readSavedSolution(const std::string& key, const std::filesystem::path& file, Diagnostics& diagnostics) {
     // Refused before the solve, as it would be replaced after it.
     if (const std::string why = whyNotReplaceable(file.string()); !why.empty()) {
         diagnostics.error({file.string(), 0, 0}, "cannot use the solution file: " + why);
-        return std::nullopt;
+        return {};
     }
     std::string why;
-    const std::optional<std::string> read = readRegularFile(file.string(), why);
+    std::optional<std::string> read = readRegularFile(file.string(), why);
     if (!read) {  // absent: solve and save it, without a word
         std::error_code ec;
         if (std::filesystem::exists(file, ec))
             diagnostics.note({file.string(), 0, 0}, "cannot read the saved solution (" + why + "): solving again");
-        return std::nullopt;
+        return {};
     }
-    const std::string& bytes = *read;
     const std::string header = std::string(kMagic) + key + "\n";
-    if (bytes.compare(0, header.size(), header) != 0) {
+    if (read->compare(0, header.size(), header) != 0) {
         diagnostics.note({file.string(), 0, 0}, "the saved solution is for another scene or other solver settings: solving again");
-        return std::nullopt;
+        return {};
     }
-    std::optional<Solution> parsed = parseSolution(bytes, header.size());
-    if (!parsed) {
+    if (!parseSolution(*read, header.size())) {
         diagnostics.note({file.string(), 0, 0}, "the saved solution is damaged: solving again");
-        return std::nullopt;
+        return {};
     }
+    return std::move(*read);
+}
+
+}  // namespace
+
+std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
+                                     const std::filesystem::path& file, int threads, Diagnostics& diagnostics,
+                                     const Ranks& ranks) {
+    // The lead reads the file: the other ranks may run where it is not.
+    std::string bytes = ranks.lead() ? readSavedSolution(key, file, diagnostics) : std::string();
+    ranks.broadcast(bytes);
+    if (bytes.empty()) return std::nullopt;
+    std::optional<Solution> parsed = parseSolution(bytes, std::string(kMagic).size() + key.size() + 1);
+    if (!parsed) return std::nullopt;
     Solution s = std::move(*parsed);
     s.scene = &scene;
     s.options = options;
+    s.stats.memory_budget_mb = memoryBudgetMegabytes(options.max_memory_mb);
     if (s.root_count > 0) {
         s.rays = RayCaster::build(scene, diagnostics, threads);
         if (!s.rays) return std::nullopt;

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/diagnostics.h"
+#include "core/ranks.h"
 #include "radiosity/solution.h"
 #include "scene/scene.h"
 
@@ -31,8 +32,10 @@ bool solutionFileHolds(const std::string& key, const std::filesystem::path& file
 
 // The solution saved under `key` in `file`, for `scene` (which it then points to); nullopt
 // when the file is absent, holds another key or cannot be read (a note says why), or is not
-// a regular file (a directory, FIFO, device: an error, as the bake would replace it).
+// a regular file (a directory, FIFO, device: an error, as the bake would replace it). With
+// ranks, the lead reads the file and sends it to the others (collective).
 std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
-                                     const std::filesystem::path& file, int threads, Diagnostics& diagnostics);
+                                     const std::filesystem::path& file, int threads, Diagnostics& diagnostics,
+                                     const Ranks& ranks = Ranks());
 
 }  // namespace radbake

@@ -163,6 +163,17 @@ struct ClusterEvaluation {
     size_t rays = 0;
 };
 
+// An evaluation as it crosses between ranks (ParallelRunner::forEachShared).
+void encodeEvaluation(Writer& w, const ClusterEvaluation& ev) {
+    w.value(ev.decision), w.value(ev.occluded), w.value(ev.shaft), w.value(ev.new_list);
+    w.value(ev.first_candidate_only), w.value(ev.list_parts), w.value(ev.list), w.array(ev.candidates);
+    w.array(ev.kernel), w.value(ev.visibility), w.value(ev.scale), w.value(ev.rays);
+}
+void decodeEvaluation(Reader& r, ClusterEvaluation& ev) {
+    r.value(ev.decision), r.value(ev.occluded), r.value(ev.shaft), r.value(ev.new_list);
+    r.value(ev.first_candidate_only), r.value(ev.list_parts), r.value(ev.list), r.array(ev.candidates);
+    r.array(ev.kernel), r.value(ev.visibility), r.value(ev.scale), r.value(ev.rays);
+}
 
 // ClusterLink::visibility of a deferred link (see evaluate).
 constexpr float kDeferred = -1.0f;
@@ -731,7 +742,10 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             const size_t batch_end = std::min(pending.size(), batch + kEvaluationBatch);
             evals.clear();
             evals.resize(batch_end - batch);
-            state_.runner.forEach(evals.size(), 4, [&](size_t i) { evals[i] = evaluate(pending[batch + i]); });
+            state_.runner.forEachShared(
+                evals.size(), 4, [&](size_t i) { evals[i] = evaluate(pending[batch + i]); },
+                [&](Writer& w, size_t i) { encodeEvaluation(w, evals[i]); },
+                [&](Reader& r, size_t i) { decodeEvaluation(r, evals[i]); });
             auto push = [&](uint32_t r, uint32_t src, uint32_t list) {
                 if (r == src && !isCluster(r)) return;  // a root does not light itself
                 if (!isCluster(r) && !isCluster(src)) out.push_back({r, src, list});
@@ -884,7 +898,7 @@ void ClusterTransfer::gather(const Solution& s, ParallelRunner& runner, std::vec
     runner.forEach(s.cluster_members.size(), 1024,
                    [&](size_t k) { member_radiosity_[k] = s.elements[s.cluster_members[k]].radiosity; });
     // Every root gathers from the links of its own node and of its clusters, in a fixed order.
-    runner.forEach(s.root_count, 64, [&](size_t r) {
+    runner.forEachSharedSlot(per_root, 64, [&](size_t r) {
         const uint32_t root = static_cast<uint32_t>(r);
         const Element& receiver = s.elements[root];
         DVec3 h(0.0);
@@ -924,7 +938,7 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
     if (empty_) return factor;
     std::vector<double> kernel_at(leaves.size(), 0.0);
     if (kept) kept->cover(s.elements.size());
-    runner.forEach(leaves.size(), 16, [&](size_t k) {
+    runner.forEachSharedSlot(kernel_at, 16, [&](size_t k) {
         const Element& leaf = s.elements[leaves[k]];
         if (leaves[k] == leaf.root) return;  // the root itself: its kernel is the links' own
         uint64_t signature = ElementMemo::kSignatureSeed;

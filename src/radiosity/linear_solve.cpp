@@ -85,7 +85,7 @@ struct Operator {
         std::vector<double> row_hier(leaves.size(), 0.0), row_exact(leaves.size(), 0.0);
         ElementMemo* kept = cache ? &cache->row_sums : nullptr;
         if (kept) kept->cover(s.elements.size());
-        runner.forEach(leaves.size(), 64, [&](size_t k) {
+        const auto rowSums = [&](size_t k) {
             const Element& leaf = s.elements[leaves[k]];
             double hierarchical = 0.0, exact = 0.0;
             // Of the inherited links' sources and visibilities, in order: what the exact sum reads.
@@ -109,7 +109,10 @@ struct Operator {
             for (size_t l = link_begin[leaves[k]]; l < link_begin[leaves[k] + 1]; ++l) own += s.links[l].form_factor;
             row_hier[k] = own + hierarchical;
             row_exact[k] = own + exact;
-        });
+        };
+        runner.forEachShared(
+            leaves.size(), 64, rowSums, [&](Writer& w, size_t k) { w.value(row_hier[k]), w.value(row_exact[k]); },
+            [&](Reader& r, size_t k) { r.value(row_hier[k]), r.value(row_exact[k]); });
         // The centroid rule is biased near adjacent sources, while the hierarchical sums are
         // exact in power over each receiver. Keep each root's power: the corrections only
         // redistribute within a root.
@@ -176,8 +179,10 @@ struct Operator {
 
     // gathered = sum over the element's own links of F B, pushed = that summed down from the roots.
     void gatherElementLinks() {
-        runner.forRanges(s.elements.size(), 256, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) {
+        // Shared between ranks: what crosses per application is two vectors per element.
+        runner.forEachShared(
+            s.elements.size(), 256,
+            [&](size_t i) {
                 DVec3 h(0.0), sampled(0.0);
                 for (size_t l = link_begin[i]; l < link_begin[i + 1]; ++l) {
                     const Link& link = s.links[l];
@@ -187,8 +192,9 @@ struct Operator {
                 }
                 s.elements[i].gathered = h;
                 pushed_sampled[i] = sampled;
-            }
-        });
+            },
+            [&](Writer& w, size_t i) { w.value(s.elements[i].gathered), w.value(pushed_sampled[i]); },
+            [&](Reader& r, size_t i) { r.value(s.elements[i].gathered), r.value(pushed_sampled[i]); });
         // Parents precede their children in the element array.
         for (size_t i = 0; i < s.elements.size(); ++i) {
             const Element& e = s.elements[i];

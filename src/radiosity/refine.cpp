@@ -34,6 +34,16 @@ struct Evaluation {
     bool classify_fell_back = false;  // ShaftResult::fell_back
 };
 
+// An evaluation as it crosses between ranks (ParallelRunner::forEachShared).
+void encodeEvaluation(Writer& w, const Evaluation& ev) {
+    w.value(ev.ff), w.value(ev.state), w.value(ev.visibility), w.array(ev.candidates);
+    w.value(ev.rays), w.value(ev.shaft), w.value(ev.classify_fell_back);
+}
+void decodeEvaluation(Reader& r, Evaluation& ev) {
+    r.value(ev.ff), r.value(ev.state), r.value(ev.visibility), r.array(ev.candidates);
+    r.value(ev.rays), r.value(ev.shaft), r.value(ev.classify_fell_back);
+}
+
 // The visible fraction of a link from rays between the parts of its two elements that can
 // exchange light: each clipped to the half-space in front of the other's plane. Rays to the
 // whole polygons would also sample paths that carry no light and cross the elements' own
@@ -315,10 +325,14 @@ size_t skyAtCorners(RefineState& state, const std::vector<uint32_t>& todo) {
     }
     std::vector<DVec3> value(corners.size());
     std::vector<size_t> rays(corners.size(), 0);
-    state.runner.forEach(corners.size(), 8, [&](size_t c) {
-        value[c] = skyIrradiance(state.scene.sky, s.rays.get(), corners[c].from, corners[c].normal, state.options.sky,
-                                 &rays[c]);
-    });
+    state.runner.forEachShared(
+        corners.size(), 8,
+        [&](size_t c) {
+            value[c] = skyIrradiance(state.scene.sky, s.rays.get(), corners[c].from, corners[c].normal,
+                                     state.options.sky, &rays[c]);
+        },
+        [&](Writer& w, size_t c) { w.value(value[c]), w.value(rays[c]); },
+        [&](Reader& r, size_t c) { r.value(value[c]), r.value(rays[c]); });
     size_t total = 0;
     for (size_t c = 0; c < corners.size(); ++c) {
         for (const uint32_t slot : corners[c].slots) s.vertex_sky[slot] = value[c];
@@ -364,7 +378,7 @@ void computeDirectLight(RefineState& state) {
         std::vector<DVec3> mean(todo.size(), DVec3(0.0)), spread(todo.size(), DVec3(0.0));
         std::vector<size_t> rays(todo.size(), 0);
         if (lights) {
-            state.runner.forEach(todo.size(), 16, [&](size_t k) {
+            const auto compute = [&](size_t k) {
                 const Element& e = s.elements[todo[k]];
                 const PolygonView poly = polygonOf(s, e);
                 // 3 x 3 (odd): a symmetric 2 x 2 pattern can hide a light straight above.
@@ -378,7 +392,11 @@ void computeDirectLight(RefineState& state) {
                 }
                 mean[k] = points.empty() ? DVec3(0.0) : sum / static_cast<double>(points.size());
                 spread[k] = points.empty() ? DVec3(0.0) : hi - lo;
-            });
+            };
+            state.runner.forEachShared(
+                todo.size(), 16, compute,
+                [&](Writer& w, size_t k) { w.value(mean[k]), w.value(spread[k]), w.value(rays[k]); },
+                [&](Reader& r, size_t k) { r.value(mean[k]), r.value(spread[k]), r.value(rays[k]); });
         }
         if (state.scene.sky.shines()) {
             s.stats.rays += skyAtCorners(state, todo);
@@ -403,7 +421,7 @@ void computeDirectLight(RefineState& state) {
             // window's edge) stands for a quarter of the element in the corners' mean: such an
             // element's light is read inside it, as punctual light is.
             std::vector<DVec3> inside(singular.size(), DVec3(0.0));
-            state.runner.forEach(singular.size(), 2, [&](size_t u) {
+            const auto inside_of = [&](size_t u) {
                 const Element& e = s.elements[todo[singular[u]]];
                 const auto points = stratifiedPolygonPoints(polygonOf(s, e).vertices, 3);
                 const DVec3 lift = e.normal * (kSkyCornerLifts * s.rays->epsilon());
@@ -411,7 +429,11 @@ void computeDirectLight(RefineState& state) {
                     inside[u] += skyIrradiance(scene.sky, s.rays.get(), p + lift, e.normal, state.options.sky,
                                                &rays[singular[u]]);
                 if (!points.empty()) inside[u] /= static_cast<double>(points.size());
-            });
+            };
+            state.runner.forEachShared(
+                singular.size(), 2, inside_of,
+                [&](Writer& w, size_t u) { w.value(inside[u]), w.value(rays[singular[u]]); },
+                [&](Reader& r, size_t u) { r.value(inside[u]), r.value(rays[singular[u]]); });
             for (size_t u = 0; u < singular.size(); ++u) mean[singular[u]] += inside[u] - corner_mean[u];
         }
         bool split_any = false;
@@ -475,7 +497,10 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
             const size_t batch_end = std::min(pending.size(), batch + kEvaluationBatch);
             evals.clear();
             evals.resize(batch_end - batch);
-            state.runner.forEach(evals.size(), 8, [&](size_t i) { evals[i] = evaluate(state, pending[batch + i]); });
+            state.runner.forEachShared(
+                evals.size(), 8, [&](size_t i) { evals[i] = evaluate(state, pending[batch + i]); },
+                [&](Writer& w, size_t i) { encodeEvaluation(w, evals[i]); },
+                [&](Reader& r, size_t i) { decodeEvaluation(r, evals[i]); });
             for (size_t i = batch; i < batch_end; ++i) {
                 Evaluation& ev = evals[i - batch];
                 const PendingLink& link = pending[i];
@@ -541,11 +566,15 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
     // A partial link that stopped refining gets its real visibility from rays.
     std::vector<double> visibility(needs_rays.size(), 1.0);
     std::vector<size_t> rays(needs_rays.size(), 0);
-    state.runner.forEach(needs_rays.size(), 16, [&](size_t k) {
-        const Link& link = s.links[needs_rays[k]];
-        visibility[k] = linkVisibleFraction(s, s.elements[link.source], s.elements[link.receiver],
-                                            state.options.visibility_samples, &rays[k]);
-    });
+    state.runner.forEachShared(
+        needs_rays.size(), 16,
+        [&](size_t k) {
+            const Link& link = s.links[needs_rays[k]];
+            visibility[k] = linkVisibleFraction(s, s.elements[link.source], s.elements[link.receiver],
+                                                state.options.visibility_samples, &rays[k]);
+        },
+        [&](Writer& w, size_t k) { w.value(visibility[k]), w.value(rays[k]); },
+        [&](Reader& r, size_t k) { r.value(visibility[k]), r.value(rays[k]); });
     for (size_t k = 0; k < needs_rays.size(); ++k) {
         Link& link = s.links[needs_rays[k]];
         link.visibility = static_cast<float>(visibility[k]);

@@ -2,6 +2,7 @@
 // thrown below escapes (reported to Diagnostics instead).
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <new>
 #include <string>
@@ -19,7 +20,9 @@
 
 namespace radbake {
 
-Solution::Solution() = default;
+// The stats are saved as they lie in memory (solution_cache.cpp): their padding is zeroed
+// once here (every default is 0), and the solve sets members only.
+Solution::Solution() { std::memset(static_cast<void*>(&stats), 0, sizeof stats); }
 Solution::~Solution() = default;
 Solution::Solution(Solution&&) noexcept = default;
 Solution& Solution::operator=(Solution&&) noexcept = default;

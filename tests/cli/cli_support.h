@@ -3,12 +3,16 @@
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "../export/temp_files.h"
 
@@ -49,5 +53,15 @@ inline RunResult runRadbake(const std::string& args, int seconds = 0) {
 }
 
 inline std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }
+
+// Every file under `dir` but timings.json (which differs between runs), by relative path.
+inline std::vector<std::pair<std::string, std::string>> outputsOf(const fs::path& dir) {
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir))
+        if (entry.is_regular_file() && entry.path().filename() != "timings.json")
+            files.emplace_back(fs::relative(entry.path(), dir).string(), readBytes(entry.path()));
+    std::sort(files.begin(), files.end());
+    return files;
+}
 
 }  // namespace clitest

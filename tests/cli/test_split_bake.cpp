@@ -25,16 +25,6 @@ const char* const kLitRoom =
     "  geometry IndexedFaceSet { coord Coordinate { point [-0.3 1.5 -0.3, 0.3 1.5 -0.3, 0.3 1.5 0.3, -0.3 1.5 0.3] }\n"
     "    coordIndex [0 1 2 3 -1] } }\n";
 
-// Every file under `dir` but timings.json, by relative path.
-std::vector<std::pair<std::string, std::string>> outputsOf(const fs::path& dir) {
-    std::vector<std::pair<std::string, std::string>> files;
-    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir))
-        if (entry.is_regular_file() && entry.path().filename() != "timings.json")
-            files.emplace_back(fs::relative(entry.path(), dir).string(), readBytes(entry.path()));
-    std::sort(files.begin(), files.end());
-    return files;
-}
-
 }  // namespace
 
 TEST_CASE("radbake solve: the solution alone, kept when it matches, and a bake from it writes one bake's bytes") {
