@@ -113,6 +113,7 @@ std::vector<std::string> Ranks::allGather(const std::string& mine) const {
     MPI_Allgatherv(mine.data(), count, MPI_BYTE, p.all.data(), p.counts.data(), p.offsets.data(), MPI_BYTE,
                    MPI_COMM_WORLD);
     exchanged_ += p.all.size() - mine.size() + mine.size() * static_cast<size_t>(size_ - 1);
+    ++exchanges_;
     return p.split();
 }
 
@@ -125,6 +126,7 @@ std::vector<std::string> Ranks::gatherToLead(const std::string& mine) const {
     MPI_Gatherv(mine.data(), count, MPI_BYTE, p.all.data(), p.counts.data(), p.offsets.data(), MPI_BYTE, 0,
                 MPI_COMM_WORLD);
     exchanged_ += lead() ? p.all.size() - mine.size() : mine.size();
+    ++exchanges_;
     return lead() ? p.split() : std::vector<std::string>{};
 }
 
@@ -134,6 +136,7 @@ void Ranks::broadcast(std::string& bytes) const {
     MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
     bytes.resize(size);
     exchanged_ += lead() ? bytes.size() * static_cast<size_t>(size_ - 1) : bytes.size();
+    ++exchanges_;
     // In pieces: MPI counts are ints.
     constexpr size_t kPiece = size_t{1} << 30;
     for (size_t at = 0; at < bytes.size(); at += kPiece)

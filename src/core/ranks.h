@@ -35,8 +35,10 @@ public:
     // in a collective). Returns only with one rank.
     void abortAll(int code) const;
 
-    // Bytes this rank has sent and received in exchanges so far (what crosses the network).
+    // Bytes this rank has sent and received in exchanges so far (what crosses the network), and
+    // the exchanges (collectives) that carried them.
     unsigned long long exchangedBytes() const { return exchanged_; }
+    unsigned long long exchanges() const { return exchanges_; }
 
     // Items [0, count) are shared in blocks of `block`, dealt round-robin: block b is rank
     // b mod size's (neighbouring items cost alike, so each rank gets a like mix).
@@ -46,7 +48,7 @@ public:
 
 private:
     int rank_ = 0, size_ = 1;
-    mutable unsigned long long exchanged_ = 0;  // one thread at a time exchanges
+    mutable unsigned long long exchanged_ = 0, exchanges_ = 0;  // one thread at a time exchanges
 };
 
 }  // namespace radbake

@@ -123,6 +123,7 @@ std::string formatTimingsJson(const BakeReport& r) {
     if (r.ranks > 1) {
         out["ranks"] = r.ranks;
         out["exchanged_mb"] = r.exchanged_mb;
+        out["exchanges"] = r.exchanges;
     }
     return json_detail::dump(out, 2) + "\n";
 }

@@ -281,6 +281,7 @@ void finishStages(StageRun& run) {
     out.report.peak_rss_mb = peakRssMegabytes();
     out.report.ranks = run.runner.ranks().size();
     out.report.exchanged_mb = static_cast<double>(run.runner.ranks().exchangedBytes()) / (1024.0 * 1024.0);
+    out.report.exchanges = run.runner.ranks().exchanges();
     out.report.warnings = run.diagnostics.warningCount();
     out.status = BakeStatus::Ok;
 }
