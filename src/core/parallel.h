@@ -6,6 +6,7 @@
 // slot, so the output never depends on the thread count or on scheduling.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -34,7 +35,7 @@ public:
     ParallelRunner& operator=(const ParallelRunner&) = delete;
 
     int threads() const { return threads_; }
-    const Ranks& ranks() const { return ranks_ ? *ranks_ : kOneRank; }
+    const Ranks& ranks() const { return ranks_ ? *ranks_ : Ranks::one(); }
     bool cancelled() const { return cancel_ && cancel_->load(std::memory_order_relaxed); }
 
     // Calls body(begin, end) on disjoint ranges covering [0, count), grain indices at least.
@@ -63,9 +64,11 @@ public:
                 for (size_t i = (rank + j * size) * block, end = std::min(count, i + block); i < end; ++i) f(i);
         };
         const size_t me = static_cast<size_t>(r.rank());
+        const auto start = std::chrono::steady_clock::now();
         forEach(ownBlocks(me), 1, [&](size_t j) {
             for (size_t i = (me + j * size) * block, end = std::min(count, i + block); i < end; ++i) compute(i);
         });
+        r.addSharedSeconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         Writer writer;
         forOwn(me, [&](size_t i) { encode(writer, i); });
         const std::vector<std::string> all = r.allGather(writer.bytes);
@@ -95,7 +98,6 @@ private:
     int threads_ = 1;
     const std::atomic<bool>* cancel_ = nullptr;
     const Ranks* ranks_ = nullptr;
-    static inline const Ranks kOneRank{};
 };
 
 }  // namespace radbake

@@ -1,6 +1,7 @@
 #include "core/ranks.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
@@ -85,6 +86,17 @@ Pieces piecesOf(const std::vector<int>& counts) {
     return p;
 }
 
+// Adds the wall time of its lifetime to `seconds`.
+class Stopwatch {
+public:
+    explicit Stopwatch(double& seconds) : seconds_(seconds) {}
+    ~Stopwatch() { seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+private:
+    double& seconds_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
 int byteCount(const std::string& mine) {
     if (mine.size() > static_cast<size_t>(INT32_MAX)) throw std::length_error("a rank exchange of more than 2 GiB");
     return static_cast<int>(mine.size());
@@ -106,6 +118,7 @@ const Ranks& Ranks::world() {
 
 std::vector<std::string> Ranks::allGather(const std::string& mine) const {
     if (size_ == 1) return {mine};
+    const Stopwatch watch(exchange_seconds_);
     int count = byteCount(mine);
     std::vector<int> counts(size_);
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
@@ -119,6 +132,7 @@ std::vector<std::string> Ranks::allGather(const std::string& mine) const {
 
 std::vector<std::string> Ranks::gatherToLead(const std::string& mine) const {
     if (size_ == 1) return {mine};
+    const Stopwatch watch(exchange_seconds_);
     int count = byteCount(mine);
     std::vector<int> counts(size_);
     MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
@@ -132,6 +146,7 @@ std::vector<std::string> Ranks::gatherToLead(const std::string& mine) const {
 
 void Ranks::broadcast(std::string& bytes) const {
     if (size_ == 1) return;
+    const Stopwatch watch(exchange_seconds_);
     unsigned long long size = bytes.size();
     MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
     bytes.resize(size);

@@ -39,6 +39,12 @@ public:
     // the exchanges (collectives) that carried them.
     unsigned long long exchangedBytes() const { return exchanged_; }
     unsigned long long exchanges() const { return exchanges_; }
+    // Wall seconds this rank spent in exchanges (waiting for the slowest rank included), and
+    // computing its share of shared work (as its callers report it): with the bake's wall time,
+    // what the scale model reads (tools/scale_model.py).
+    double exchangeSeconds() const { return exchange_seconds_; }
+    double sharedSeconds() const { return shared_seconds_; }
+    void addSharedSeconds(double seconds) const { shared_seconds_ += seconds; }
 
     // Items [0, count) are shared in blocks of `block`, dealt round-robin: block b is rank
     // b mod size's (neighbouring items cost alike, so each rank gets a like mix).
@@ -48,7 +54,9 @@ public:
 
 private:
     int rank_ = 0, size_ = 1;
-    mutable unsigned long long exchanged_ = 0, exchanges_ = 0;  // one thread at a time exchanges
+    // One thread at a time exchanges and reports.
+    mutable unsigned long long exchanged_ = 0, exchanges_ = 0;
+    mutable double exchange_seconds_ = 0.0, shared_seconds_ = 0.0;
 };
 
 }  // namespace radbake

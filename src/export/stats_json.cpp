@@ -124,6 +124,8 @@ std::string formatTimingsJson(const BakeReport& r) {
         out["ranks"] = r.ranks;
         out["exchanged_mb"] = r.exchanged_mb;
         out["exchanges"] = r.exchanges;
+        out["exchange_s"] = r.exchange_seconds;
+        out["shared_s"] = r.shared_seconds;
     }
     return json_detail::dump(out, 2) + "\n";
 }

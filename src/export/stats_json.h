@@ -51,6 +51,8 @@ struct BakeReport {
     int ranks = 1;             // timings.json: processes that shared the bake (mpirun)
     double exchanged_mb = 0.0; // timings.json: MiB the lead sent and received between ranks
     size_t exchanges = 0;      // timings.json: the exchanges (collectives) that carried them
+    double exchange_seconds = 0.0;  // timings.json: the lead's wall time in exchanges
+    double shared_seconds = 0.0;    // timings.json: the lead's wall time computing its share
     size_t meshes = 0, vertices = 0, triangles = 0, probes = 0;  // as written: back twins included
     size_t two_sided_meshes = 0;  // meshes given a back twin (scene/two_sided.h)
     size_t two_sided_closed_meshes = 0;  // two-sided, but closed and dark inside: no twin
@@ -77,7 +79,8 @@ std::string formatStatsJson(const BakeReport& report);
 bool writeStatsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics);
 
 // timings.json: generator, scene, seconds, phases (a phase run in rounds is one key with its
-// total), peak_rss_mb and threads; ranks, exchanged_mb and exchanges when ranks shared the bake.
+// total), peak_rss_mb and threads; ranks, exchanged_mb, exchanges,
+// exchange_s and shared_s when ranks shared the bake.
 std::string formatTimingsJson(const BakeReport& report);
 
 bool writeTimingsJson(const std::filesystem::path& path, const BakeReport& report, Diagnostics& diagnostics);

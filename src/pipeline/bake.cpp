@@ -282,6 +282,8 @@ void finishStages(StageRun& run) {
     out.report.ranks = run.runner.ranks().size();
     out.report.exchanged_mb = static_cast<double>(run.runner.ranks().exchangedBytes()) / (1024.0 * 1024.0);
     out.report.exchanges = run.runner.ranks().exchanges();
+    out.report.exchange_seconds = run.runner.ranks().exchangeSeconds();
+    out.report.shared_seconds = run.runner.ranks().sharedSeconds();
     out.report.warnings = run.diagnostics.warningCount();
     out.status = BakeStatus::Ok;
 }

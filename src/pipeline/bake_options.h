@@ -55,7 +55,10 @@ struct BakeOptions {
     // --solution FILE: reuse the radiosity solution saved there when the scene and solver
     // settings match (pipeline/solution_cache.h), else solve and save it there; empty: neither.
     std::string solution_file;
-    Threading threading;               // every phase's threads (0: all cores; not pinned)
+    // Every phase's threads (0: all cores; not pinned). With threading.ranks (Ranks::world(),
+    // core/ranks.h), every rank calls bake() alike and shares the work; only the lead's Bake
+    // holds the outputs (the others' is Ok and empty), so only the lead writes.
+    Threading threading;
 
     // Every preset of `quality`: the solver's and the read-out's knobs and the texel tolerance.
     static BakeOptions forQuality(Quality quality);

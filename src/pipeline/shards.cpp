@@ -1,6 +1,7 @@
 #include "pipeline/shards.h"
 
 #include <algorithm>
+#include <chrono>
 #include <numeric>
 
 #include "core/binary_records.h"
@@ -13,6 +14,9 @@ namespace radbake {
 namespace {
 
 constexpr char kPartMagic[] = "radbake read-out part 3\n";
+
+// Read-out shards per rank of a bake on ranks (readOutAcrossRanks).
+constexpr uint32_t kShardsPerRank = 8;
 
 std::string partName(const ReadoutPart& part) {
     return "shard " + std::to_string(part.shard) + " of " + std::to_string(part.shards);
@@ -239,23 +243,39 @@ void readOutAcrossRanks(StageRun& run, std::optional<LightmapCharts> charts) {
         if (!packLightmapCharts(std::move(charts->charts), *used, *layout, run.diagnostics) || run.stopped())
             return (void)run.stopped();
     }
-    ReadoutPart part;
-    part.shard = static_cast<uint32_t>(ranks.rank()) + 1;
-    part.shards = static_cast<uint32_t>(ranks.size());
-    part.solve = out.solution->stats;
-    if (!readShard(run, layout ? &*layout : nullptr, used ? &*used : nullptr, part)) return;
-    const std::vector<std::string> bytes = ranks.gatherToLead(encodeReadoutPart(part));
+    // kShardsPerRank shards a rank, dealt round-robin: the read-out's cost estimates are rough
+    // (a lit chart costs more than a dark one of its size), and interleaved shards even out.
+    const uint32_t size = static_cast<uint32_t>(ranks.size());
+    const uint32_t shards = kShardsPerRank * size;
+    Writer mine;
+    const auto start = std::chrono::steady_clock::now();
+    for (uint32_t shard = static_cast<uint32_t>(ranks.rank()) + 1; shard <= shards; shard += size) {
+        ReadoutPart part;
+        part.shard = shard;
+        part.shards = shards;
+        part.solve = out.solution->stats;
+        if (!readShard(run, layout ? &*layout : nullptr, used ? &*used : nullptr, part)) return;
+        writeString(mine, encodeReadoutPart(part));
+    }
+    ranks.addSharedSeconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const std::vector<std::string> bytes = ranks.gatherToLead(mine.bytes);
     if (!ranks.lead()) {
         out.status = BakeStatus::Ok;
         return;
     }
     std::vector<ReadoutPart> parts;
     for (size_t k = 0; k < bytes.size(); ++k) {
-        std::optional<ReadoutPart> decoded =
-            decodeReadoutPart(bytes[k], "the read-out of rank " + std::to_string(k), run.diagnostics);
-        if (!decoded) return (void)run.stopped();
-        parts.push_back(std::move(*decoded));
+        Reader reader{bytes[k]};
+        for (uint32_t shard = static_cast<uint32_t>(k) + 1; shard <= shards; shard += size) {
+            std::string encoded;
+            readString(reader, encoded);
+            std::optional<ReadoutPart> decoded =
+                decodeReadoutPart(encoded, "the read-out of rank " + std::to_string(k), run.diagnostics);
+            if (!decoded) return (void)run.stopped();
+            parts.push_back(std::move(*decoded));
+        }
     }
+    std::sort(parts.begin(), parts.end(), [](const ReadoutPart& a, const ReadoutPart& b) { return a.shard < b.shard; });
     assembleParts(run, layout ? &*layout : nullptr, used ? &*used : nullptr, parts);
 }
 
