@@ -806,10 +806,15 @@ def parse_bench_shards(text):
             "identical": 1 if "the same bytes as one bake" in text else 0}
 
 
+def bench_script(r, script, *args):
+    """The output of tools/SCRIPT ARGS run with this build's radbake."""
+    out, _ = r.run(["env", "RADBAKE=" + r.program("src/radbake"), "bash", os.path.join(HERE, script), *args],
+                   check=False)
+    return out
+
+
 def m_shards_house(r):
-    out, _ = r.run(["env", "RADBAKE=" + r.program("src/radbake"), "bash", os.path.join(HERE, "bench_shards.sh"),
-                    r.shared("house"), "7", "--read-root", r.scenes], check=False)
-    return parse_bench_shards(out)
+    return parse_bench_shards(bench_script(r, "bench_shards.sh", r.shared("house"), "7", "--read-root", r.scenes))
 
 
 def parse_bench_ranks(text):
@@ -824,9 +829,7 @@ def parse_bench_ranks(text):
 
 def m_ranks(scene_of):
     def measure(r):
-        out, _ = r.run(["env", "RADBAKE=" + r.program("src/radbake"), "bash", os.path.join(HERE, "bench_ranks.sh"),
-                        scene_of(r), "2", str(r.args.runs or 3)], check=False)
-        return parse_bench_ranks(out)
+        return parse_bench_ranks(bench_script(r, "bench_ranks.sh", scene_of(r), "2", str(r.args.runs or 3)))
     return measure
 
 

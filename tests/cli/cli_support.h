@@ -64,4 +64,15 @@ inline std::vector<std::pair<std::string, std::string>> outputsOf(const fs::path
     return files;
 }
 
+// Checks that `dir` holds the files `want` lists (outputsOf), byte for byte.
+inline void checkSameOutputs(const fs::path& dir, const std::vector<std::pair<std::string, std::string>>& want) {
+    const auto got = outputsOf(dir);
+    REQUIRE(got.size() == want.size());
+    for (size_t i = 0; i < got.size(); ++i) {
+        CAPTURE(got[i].first);
+        CHECK(got[i].first == want[i].first);
+        CHECK(got[i].second == want[i].second);
+    }
+}
+
 }  // namespace clitest

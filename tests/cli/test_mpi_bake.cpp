@@ -34,13 +34,7 @@ void checkRanksBakeOneBake(const std::string& scene_name, const std::string& opt
         const RunResult run = runRanks(ranks, "bake " + common + " --threads 1 -o " + quote(out));
         INFO(run.output);
         REQUIRE(run.exit_code == 0);
-        const auto got = outputsOf(out);
-        REQUIRE(got.size() == one.size());
-        for (size_t i = 0; i < got.size(); ++i) {
-            CAPTURE(got[i].first);
-            CHECK(got[i].first == one[i].first);
-            CHECK(got[i].second == one[i].second);
-        }
+        checkSameOutputs(out, one);
     }
 }
 
@@ -71,7 +65,7 @@ TEST_CASE("mpirun radbake solve writes one process's solution; a bake on ranks r
         runRanks(3, "bake " + scene + common + " --solution " + quote(tmp.path / "two.sol") + " -o " + quote(tmp.path / "three"));
     INFO(baked.output);
     REQUIRE(baked.exit_code == 0);
-    CHECK(outputsOf(tmp.path / "three") == outputsOf(tmp.path / "one"));
+    checkSameOutputs(tmp.path / "three", outputsOf(tmp.path / "one"));
 }
 
 TEST_CASE("on ranks, a broken scene or an unusable solution file fails with a located error and writes nothing") {

@@ -119,13 +119,7 @@ void checkShardsMergeToOneBake(const std::string& scene_name, const std::string&
         const RunResult run = runRadbake("merge" + parts + " -q -o " + quote(merged));
         INFO(run.output);
         REQUIRE(run.exit_code == 0);
-        const auto got = outputsOf(merged);
-        REQUIRE(got.size() == whole.size());
-        for (size_t i = 0; i < got.size(); ++i) {
-            CAPTURE(got[i].first);
-            CHECK(got[i].first == whole[i].first);
-            CHECK(got[i].second == whole[i].second);
-        }
+        checkSameOutputs(merged, whole);
     }
 }
 
