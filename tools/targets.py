@@ -213,7 +213,7 @@ NOT_MEASURED = [
      28, "a ratio to a start-of-work binary: run this script with --build on both builds"),
     ("shards N = 1, 3, 7 merged: one bake's bytes on the Cornell box, Duplex, graz.wrl and the 20k building", 29,
      "the first two are ctest's (tests/cli/test_split_bake.cpp); the others by hand: tools/bench_shards.sh SCENE N "
-     "(session 23: N = 3 on both)"),
+     "(session 23: N = 3 on both; session 24: N = 1 and 7 on the building, 7 on graz.wrl)"),
     ("mpirun -np 1, 2, 3: one bake's bytes on the Cornell box, Duplex, graz.wrl and the 20k building", 29,
      "the first two are ctest's (tests/cli/test_mpi_bake.cpp); 2 ranks on the others above (long); 3 ranks by "
      "hand: tools/bench_ranks.sh SCENE 3"),
