@@ -113,8 +113,10 @@ double averagedFormFactor(const Solution& s, const Element& j, const PolygonView
             made = stratifiedPolygonPoints(q, 2);
             points = made.data();
         }
+        std::array<double, 4> f;
+        pointPolygonFormFactors(std::span<const DVec3>(points, 4), j.normal, source.vertices, source.normal, f.data());
         double sum = 0.0;
-        for (int k = 0; k < 4; ++k) sum += pointPolygonFormFactor(points[k], j.normal, source.vertices, source.normal);
+        for (int k = 0; k < 4; ++k) sum += f[k];
         return sum / 4.0;
     }
     return gaussAveragedFormFactor(q, j.normal, source.vertices, source.normal);

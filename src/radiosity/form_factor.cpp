@@ -11,6 +11,50 @@
 namespace radbake {
 namespace {
 
+// Two doubles, one SSE2 register: GCC vector extensions, lane-wise IEEE operations, so a lane
+// computes exactly what the scalar code computes. (Four lanes spill on SSE2 and are slower than
+// the scalar code; AVX2 adds little to two.)
+using Lanes = double __attribute__((vector_size(2 * sizeof(double))));
+constexpr size_t kLanes = 2;
+
+// atan2Upper (core/math.h) on two lanes, its branches taken as selects: the same operations
+// in the same order on every lane, hence the same bits.
+[[gnu::always_inline]] inline Lanes atan2UpperLanes(const Lanes& y, const Lanes& x) {
+    const Lanes ax = x < 0.0 ? -x : x;
+    const auto steep = y > ax;
+    const Lanes a = steep ? ax : y, b = steep ? y : ax;
+    constexpr double kTanPi8 = 0.41421356237309504880;
+    const auto reduce = a > kTanPi8 * b;
+    const Lanes u = reduce ? (a - b) / (a + b) : a / b;
+    const Lanes z = u * u;
+    Lanes p = Lanes{} + 0.022750511120272942;
+    p = p * z - 0.044833334623513882;
+    p = p * z + 0.057363318138629805;
+    p = p * z - 0.066496136378790052;
+    p = p * z + 0.076910551529583357;
+    p = p * z - 0.090908525568752341;
+    p = p * z + 0.11111109636525059;
+    p = p * z - 0.14285714266096475;
+    p = p * z + 0.19999999999898407;
+    p = p * z - 0.33333333333333248;
+    Lanes angle = u + u * z * p;
+    angle = reduce ? angle + 0.25 * kPi : angle;
+    angle = steep ? 0.5 * kPi - angle : angle;
+    return x < 0.0 ? kPi - angle : angle;
+}
+
+// The terms of the contour integral for two edges (r0 -> r1 in each lane, seen from the
+// point): angle x (normal . (r0 x r1)) / |r0 x r1|, and |r0 x r1| (0: the edge adds nothing).
+[[gnu::always_inline]] inline void edgeTermLanes(const Lanes& x0, const Lanes& y0, const Lanes& z0, const Lanes& x1, const Lanes& y1,
+                   const Lanes& z1, const DVec3& normal, Lanes& term, Lanes& c_len) {
+    const Lanes cx = y0 * z1 - y1 * z0, cy = z0 * x1 - z1 * x0, cz = x0 * y1 - x1 * y0;
+    c_len = cx * cx + cy * cy + cz * cz;
+    for (size_t k = 0; k < kLanes; ++k) c_len[k] = std::sqrt(c_len[k]);
+    const Lanes angle = atan2UpperLanes(c_len, x0 * x1 + y0 * y1 + z0 * z1);
+    term = angle * (normal.x * cx + normal.y * cy + normal.z * cz) / c_len;
+}
+
+
 // Gauss-Legendre rules on [0, 1] (abscissae, weights), orders 1 to 4.
 struct GaussRule {
     int count;
@@ -44,14 +88,26 @@ struct Accumulator {
     int samples = 0;
 };
 
-void sample(const DVec3& p, double weight, const DVec3& normal, const PolygonView& source,
-            Accumulator& acc) {
-    const double f = pointPolygonFormFactor(p, normal, source.vertices, source.normal);
-    acc.sum += weight * f;
-    acc.area += weight;
-    acc.f_min = std::min(acc.f_min, f);
-    acc.f_max = std::max(acc.f_max, f);
-    ++acc.samples;
+// One cell's Gauss points and weights, at most 4 x 4.
+struct CellSamples {
+    std::array<DVec3, 16> points;
+    std::array<double, 16> weights;
+    size_t count = 0;
+    void add(const DVec3& p, double weight) { points[count] = p, weights[count++] = weight; }
+};
+
+// The cell's samples into the accumulator, in the order they were added.
+void sample(const CellSamples& cell, const DVec3& normal, const PolygonView& source, Accumulator& acc) {
+    std::array<double, 16> f;
+    pointPolygonFormFactors(std::span<const DVec3>(cell.points.data(), cell.count), normal, source.vertices,
+                            source.normal, f.data());
+    for (size_t k = 0; k < cell.count; ++k) {
+        acc.sum += cell.weights[k] * f[k];
+        acc.area += cell.weights[k];
+        acc.f_min = std::min(acc.f_min, f[k]);
+        acc.f_max = std::max(acc.f_max, f[k]);
+        ++acc.samples;
+    }
 }
 
 // Tensor Gauss rule on the bilinear map of a planar quad; the weights include the Jacobian
@@ -59,6 +115,7 @@ void sample(const DVec3& p, double weight, const DVec3& normal, const PolygonVie
 void gaussQuad(std::span<const DVec3> q, const DVec3& normal, const PolygonView& source, int order,
                Accumulator& acc) {
     const GaussRule& rule = kGauss[std::clamp(order, 1, 4)];
+    CellSamples samples;
     for (int i = 0; i < rule.count; ++i)
         for (int j = 0; j < rule.count; ++j) {
             const double u = rule.x[i], v = rule.x[j];
@@ -66,8 +123,9 @@ void gaussQuad(std::span<const DVec3> q, const DVec3& normal, const PolygonView&
             const DVec3 du = (1 - v) * (q[1] - q[0]) + v * (q[2] - q[3]);
             const DVec3 dv = (1 - u) * (q[3] - q[0]) + u * (q[2] - q[1]);
             const double jacobian = glm::dot(glm::cross(du, dv), normal);
-            sample(p, rule.w[i] * rule.w[j] * jacobian, normal, source, acc);
+            samples.add(p, rule.w[i] * rule.w[j] * jacobian);
         }
+    sample(samples, normal, source, acc);
 }
 
 // A receiver cell whose edge lies on the source (a shared edge of adjacent elements, or a
@@ -135,7 +193,8 @@ void gradedQuad(std::span<const DVec3> cell, int edge, double radius, const DVec
         const double v_hi = std::ldexp(1.0, -level);
         const double v_lo = level == kGradedLevels ? 0.0 : 0.5 * v_hi;
         gradedIntervals(v_hi, corner_lo, corner_hi, u_intervals);
-        for (const auto& [u_lo, u_hi] : u_intervals)
+        for (const auto& [u_lo, u_hi] : u_intervals) {
+            CellSamples samples;
             for (int i = 0; i < rule.count; ++i)
                 for (int j = 0; j < rule.count; ++j) {
                     const double u = u_lo + (u_hi - u_lo) * rule.x[i], v = v_lo + (v_hi - v_lo) * rule.x[j];
@@ -144,9 +203,10 @@ void gradedQuad(std::span<const DVec3> cell, int edge, double radius, const DVec
                     const DVec3 du = (1 - v) * (q[1] - q[0]) + v * (q[2] - q[3]);
                     const DVec3 dv = (1 - u) * (q[3] - q[0]) + u * (q[2] - q[1]);
                     const double jacobian = glm::dot(glm::cross(du, dv), normal);
-                    sample(p, rule.w[i] * rule.w[j] * (u_hi - u_lo) * (v_hi - v_lo) * jacobian, normal, source,
-                           acc);
+                    samples.add(p, rule.w[i] * rule.w[j] * (u_hi - u_lo) * (v_hi - v_lo) * jacobian);
                 }
+            sample(samples, normal, source, acc);
+        }
     }
 }
 
@@ -188,19 +248,79 @@ double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span
     std::array<DVec3, kMaxClip> clipped;
     const size_t count = clipAboveHorizon(point, normal, source, clipped.data());
     if (count < 3) return 0.0;
-    double sum = 0.0;
-    std::array<DVec3, kMaxClip> dirs;
+    // Two edges at a time in lanes, their terms summed in edge order.
+    std::array<DVec3, kMaxClip + 1> dirs;
     for (size_t i = 0; i < count; ++i) dirs[i] = clipped[i] - point;
-    for (size_t i = 0; i < count; ++i) {
-        const DVec3& r0 = dirs[i];
-        const DVec3& r1 = dirs[i + 1 == count ? 0 : i + 1];  // no division: this is the hottest loop
-        const DVec3 c = glm::cross(r0, r1);
-        const double c_len = glm::length(c);
-        if (!(c_len > 0.0)) continue;  // a vertex at the point, or collinear: no area swept
-        const double angle = atan2Upper(c_len, glm::dot(r0, r1));
-        sum += angle * glm::dot(normal, c) / c_len;
+    dirs[count] = dirs[0];
+    double sum = 0.0;
+    for (size_t i = 0; i < count; i += 2) {
+        const size_t j = i + 1 < count ? i + 1 : i;  // an odd last edge fills both lanes
+        const Lanes x0 = {dirs[i].x, dirs[j].x}, y0 = {dirs[i].y, dirs[j].y}, z0 = {dirs[i].z, dirs[j].z};
+        const Lanes x1 = {dirs[i + 1].x, dirs[j + 1].x}, y1 = {dirs[i + 1].y, dirs[j + 1].y},
+                    z1 = {dirs[i + 1].z, dirs[j + 1].z};
+        Lanes term, c_len;
+        edgeTermLanes(x0, y0, z0, x1, y1, z1, normal, term, c_len);
+        // A vertex at the point, or a collinear edge, sweeps no area.
+        if (c_len[0] > 0.0) sum += term[0];
+        if (j != i && c_len[1] > 0.0) sum += term[1];
     }
     return std::abs(sum) / (2.0 * kPi);
+}
+
+namespace {
+
+// The contour integral of pointPolygonFormFactor at two points that see the whole (unclipped)
+// source, before its abs and 1 / (2 pi), into `sum`.
+void contourLanes(const Lanes& px, const Lanes& py, const Lanes& pz, const DVec3& normal,
+                  std::span<const DVec3> source, Lanes& sum) {
+    const size_t n = source.size();
+    sum = Lanes{};
+    Lanes x0 = source[0].x - px, y0 = source[0].y - py, z0 = source[0].z - pz;
+    const Lanes first_x = x0, first_y = y0, first_z = z0;
+    for (size_t i = 0; i < n; ++i) {
+        const bool last = i + 1 == n;
+        const Lanes x1 = last ? first_x : source[i + 1].x - px;
+        const Lanes y1 = last ? first_y : source[i + 1].y - py;
+        const Lanes z1 = last ? first_z : source[i + 1].z - pz;
+        Lanes term, c_len;
+        edgeTermLanes(x0, y0, z0, x1, y1, z1, normal, term, c_len);
+        sum += c_len > 0.0 ? term : Lanes{};
+        x0 = x1, y0 = y1, z0 = z1;
+    }
+}
+
+}  // namespace
+
+void pointPolygonFormFactors(std::span<const DVec3> points, const DVec3& normal, std::span<const DVec3> source,
+                             const DVec3& source_normal, double* out) {
+    const size_t n = source.size();
+    if (n < 3 || n >= kMaxClip - 1) {
+        std::fill(out, out + points.size(), 0.0);
+        return;
+    }
+    for (size_t first = 0; first < points.size(); first += kLanes) {
+        const size_t count = std::min(kLanes, points.size() - first);
+        Lanes px{}, py{}, pz{};
+        std::array<bool, kLanes> whole{};
+        bool any = false;
+        for (size_t k = 0; k < count; ++k) {
+            const DVec3& p = points[first + k];
+            bool above = glm::dot(source_normal, p - source[0]) > 0.0;
+            for (size_t i = 0; i < n && above; ++i) above = glm::dot(normal, source[i] - p) >= 0.0;
+            // A point behind the source, or whose horizon cuts it, takes the scalar path.
+            if (!above) {
+                out[first + k] = pointPolygonFormFactor(p, normal, source, source_normal);
+                continue;
+            }
+            whole[k] = any = true;
+            px[k] = p.x, py[k] = p.y, pz[k] = p.z;
+        }
+        if (!any) continue;
+        Lanes sum;
+        contourLanes(px, py, pz, normal, source, sum);
+        for (size_t k = 0; k < count; ++k)
+            if (whole[k]) out[first + k] = std::abs(sum[k]) / (2.0 * kPi);
+    }
 }
 
 size_t clipAboveHorizon(const DVec3& point, const DVec3& normal, std::span<const DVec3> loop, DVec3* out) {
@@ -259,16 +379,22 @@ FormFactorEstimate polygonFormFactor(const PolygonView& receiver, const PolygonV
 double gaussAveragedFormFactor(std::span<const DVec3> q, const DVec3& quad_normal, std::span<const DVec3> source,
                                const DVec3& source_normal) {
     constexpr double kG = 0.28867513459481288225;  // 1 / (2 sqrt 3): Gauss points at 0.5 -+ kG
-    double sum = 0.0, weight = 0.0;
+    std::array<DVec3, 4> points;
+    std::array<double, 4> weights, f;
+    size_t k = 0;
     for (const double u : {0.5 - kG, 0.5 + kG})
         for (const double v : {0.5 - kG, 0.5 + kG}) {
-            const DVec3 p = (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
+            points[k] = (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
             const DVec3 du = (1 - v) * (q[1] - q[0]) + v * (q[2] - q[3]);
             const DVec3 dv = (1 - u) * (q[3] - q[0]) + u * (q[2] - q[1]);
-            const double w = std::abs(glm::dot(glm::cross(du, dv), quad_normal));
-            sum += w * pointPolygonFormFactor(p, quad_normal, source, source_normal);
-            weight += w;
+            weights[k++] = std::abs(glm::dot(glm::cross(du, dv), quad_normal));
         }
+    pointPolygonFormFactors(points, quad_normal, source, source_normal, f.data());
+    double sum = 0.0, weight = 0.0;
+    for (k = 0; k < 4; ++k) {
+        sum += weights[k] * f[k];
+        weight += weights[k];
+    }
     return weight > 0.0 ? sum / weight : 0.0;
 }
 

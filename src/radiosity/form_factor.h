@@ -19,6 +19,11 @@ namespace radbake {
 double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span<const DVec3> source,
                               const DVec3& source_normal);
 
+// pointPolygonFormFactor at each of `points` (one receiver normal), written to `out`: the same
+// values to the bit, two points at a time where the whole source is above a point's horizon.
+void pointPolygonFormFactors(std::span<const DVec3> points, const DVec3& normal, std::span<const DVec3> source,
+                             const DVec3& source_normal, double* out);
+
 // The largest polygon pointPolygonFormFactor takes, plus room for the vertex its clip adds.
 inline constexpr size_t kMaxClip = 64;
 

@@ -1,6 +1,11 @@
 // Form factors against closed forms (unit squares, Howell's catalogue values).
 #include <doctest/doctest.h>
 
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <random>
 #include <vector>
 
 #include "radiosity/elements.h"
@@ -107,4 +112,50 @@ TEST_CASE("polygon form factor: touching pairs are exact at the presets' quadrat
         CHECK(polygonFormFactor(fa.view(), wb.view(), medium).form_factor ==
               doctest::Approx(kPerpendicularUnit).epsilon(1e-5).scale(0.0));
     }
+}
+
+TEST_CASE("batched point form factors are the scalar ones to the bit") {
+    // Random points and normals around random convex polygons (triangles to hexagons): in front,
+    // behind, with the horizon cutting the source, and on its vertices (edges of zero length).
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto randomUnit = [&] {
+        DVec3 v;
+        do v = DVec3(unit(rng), unit(rng), unit(rng));
+        while (glm::length(v) < 0.1 || glm::length(v) > 1.0);
+        return glm::normalize(v);
+    };
+    size_t clipped = 0, behind = 0, whole = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const size_t n = 3 + trial % 4;
+        std::vector<DVec3> loop;
+        const DVec3 centre(unit(rng), unit(rng), unit(rng));
+        const double scale = std::pow(10.0, 3.0 * unit(rng));
+        for (size_t i = 0; i < n; ++i) {
+            const double angle = 2.0 * kPi * (static_cast<double>(i) + 0.3 * unit(rng)) / static_cast<double>(n);
+            loop.push_back(scale * (centre + DVec3(std::cos(angle), std::sin(angle), 0.0)));
+        }
+        const Poly source = makePoly(loop);
+        std::vector<DVec3> points;
+        for (int k = 0; k < 1 + trial % 11; ++k) {
+            DVec3 p = scale * (centre + 2.0 * DVec3(unit(rng), unit(rng), unit(rng)));
+            if (k == 3) p = loop[0];
+            points.push_back(p);
+        }
+        const DVec3 normal = trial % 3 == 0 ? -source.element.normal : randomUnit();
+        std::vector<double> batched(points.size(), -1.0);
+        pointPolygonFormFactors(points, normal, loop, source.element.normal, batched.data());
+        for (size_t k = 0; k < points.size(); ++k) {
+            const double scalar = pointPolygonFormFactor(points[k], normal, loop, source.element.normal);
+            CHECK(std::bit_cast<uint64_t>(batched[k]) == std::bit_cast<uint64_t>(scalar));
+            std::array<DVec3, kMaxClip> out;
+            if (!(glm::dot(source.element.normal, points[k] - loop[0]) > 0.0)) ++behind;
+            else if (clipAboveHorizon(points[k], normal, loop, out.data()) == n) ++whole;
+            else ++clipped;
+        }
+    }
+    // Every path was taken often.
+    CHECK(whole > 1000);
+    CHECK(clipped > 1000);
+    CHECK(behind > 1000);
 }
