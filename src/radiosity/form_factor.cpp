@@ -245,12 +245,21 @@ double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span
     if (n < 3 || n >= kMaxClip - 1) return 0.0;
     // The receiver point must be strictly in front of the source (light leaves the front).
     if (!(glm::dot(source_normal, point - source[0]) > 0.0)) return 0.0;
-    std::array<DVec3, kMaxClip> clipped;
-    const size_t count = clipAboveHorizon(point, normal, source, clipped.data());
-    if (count < 3) return 0.0;
-    // Two edges at a time in lanes, their terms summed in edge order.
+    // A source wholly above the horizon (the common case) is its own clip.
     std::array<DVec3, kMaxClip + 1> dirs;
-    for (size_t i = 0; i < count; ++i) dirs[i] = clipped[i] - point;
+    bool whole = true;
+    for (size_t i = 0; i < n; ++i) {
+        dirs[i] = source[i] - point;
+        whole = whole && glm::dot(normal, dirs[i]) >= 0.0;
+    }
+    size_t count = n;
+    if (!whole) {
+        std::array<DVec3, kMaxClip> clipped;
+        count = clipAboveHorizon(point, normal, source, clipped.data());
+        if (count < 3) return 0.0;
+        for (size_t i = 0; i < count; ++i) dirs[i] = clipped[i] - point;
+    }
+    // Two edges at a time in lanes, their terms summed in edge order.
     dirs[count] = dirs[0];
     double sum = 0.0;
     for (size_t i = 0; i < count; i += 2) {

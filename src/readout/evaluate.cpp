@@ -44,32 +44,6 @@ void splitQuad(std::span<const DVec3> loop, QuadChildren& out) {
     out.count = 4;
 }
 
-// pointPolygonFormFactor (form_factor.cpp) for the common case of a quad wholly above the
-// point's horizon, where its clipping keeps the loop as it is: the same operations in the same
-// order (bit-identical answers), without the clip loop and its modulo indexing. Every other
-// case goes to pointPolygonFormFactor. Keep in step with it; test_probe_split.cpp compares them.
-double piecePointFormFactor(const DVec3& point, const DVec3& normal, std::span<const DVec3> source,
-                            const DVec3& source_normal) {
-    if (source.size() != 4) return pointPolygonFormFactor(point, normal, source, source_normal);
-    if (!(glm::dot(source_normal, point - source[0]) > 0.0)) return 0.0;
-    std::array<DVec3, 4> dirs;
-    for (size_t i = 0; i < 4; ++i) {
-        dirs[i] = source[i] - point;
-        if (!(glm::dot(normal, dirs[i]) > 0.0)) return pointPolygonFormFactor(point, normal, source, source_normal);
-    }
-    double sum = 0.0;
-    for (size_t i = 0; i < 4; ++i) {
-        const DVec3& r0 = dirs[i];
-        const DVec3& r1 = dirs[(i + 1) & 3];
-        const DVec3 c = glm::cross(r0, r1);
-        const double c_len = glm::length(c);
-        if (!(c_len > 0.0)) continue;
-        const double angle = atan2Upper(c_len, glm::dot(r0, r1));
-        sum += angle * glm::dot(normal, c) / c_len;
-    }
-    return std::abs(sum) / (2.0 * kPi);
-}
-
 namespace {
 
 DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DVec3& point_on_surface,

@@ -68,9 +68,4 @@ struct QuadChildren {
 };
 void splitQuad(std::span<const DVec3> loop, QuadChildren& out);
 
-// pointPolygonFormFactor (radiosity/form_factor.h), to the bit, with a fast path for a quad
-// wholly above the point's horizon (no clipping).
-double piecePointFormFactor(const DVec3& point, const DVec3& normal, std::span<const DVec3> source,
-                            const DVec3& source_normal);
-
 }  // namespace radbake

@@ -208,7 +208,7 @@ struct Gatherer {
     // `known_f`: the piece's form factor when the caller has it (>= 0).
     void gatherPiece(std::span<const DVec3> loop, const DVec3& loop_normal, const DVec3& b, int splits,
                      int suspect, bool emitter, double known_f = -1.0) {
-        const double f = known_f >= 0.0 ? known_f : piecePointFormFactor(point, normal, loop, loop_normal);
+        const double f = known_f >= 0.0 ? known_f : pointPolygonFormFactor(point, normal, loop, loop_normal);
         if (counters && known_f < 0.0) ++counters->form_factors;
         if (!(f > 0.0)) return;
         if (!use_rays) {
@@ -265,7 +265,7 @@ struct Gatherer {
     }
 
     // The form factor of the next element visited, when the caller has computed it
-    // (piecePointFormFactor at this point and normal; -1: not known). Used once.
+    // (pointPolygonFormFactor at this point and normal; -1: not known). Used once.
     double known_form_factor = -1.0;
 
     void visit(uint32_t index) {
@@ -297,7 +297,7 @@ struct Gatherer {
             for (uint32_t c = 0; c < e.child_count; ++c) visit(e.first_child + c);
             return;
         }
-        const double f = known_f >= 0.0 ? known_f : piecePointFormFactor(p, normal, poly.vertices, e.normal);
+        const double f = known_f >= 0.0 ? known_f : pointPolygonFormFactor(p, normal, poly.vertices, e.normal);
         if (counters && known_f < 0.0) ++counters->form_factors;
         if (!(f > 0.0)) return;
         if (!use_rays) {

@@ -228,7 +228,7 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
         double exact = -1.0;
         double f = farFormFactor(g.point, g.normal, source, poly.vertices);
         if (f < 0.0) {
-            f = exact = piecePointFormFactor(g.point, g.normal, poly.vertices, source.normal);
+            f = exact = pointPolygonFormFactor(g.point, g.normal, poly.vertices, source.normal);
             if (g.counters) ++g.counters->form_factors;
         }
         if (!(f > 0.0)) return;
@@ -535,7 +535,7 @@ LinkReconstruction::EdgeTerms LinkReconstruction::edgeTerms(uint32_t leaf, const
                 height[i] = glm::length(v - glm::dot(v, line) * line);
                 area += piece.area;
                 area_h += piece.area * height[i];
-                f[i] = piecePointFormFactor(origin, normal, pieces[i], e.normal);
+                f[i] = pointPolygonFormFactor(origin, normal, pieces[i], e.normal);
                 if (counters) ++counters->form_factors;
             }
             if (!(area_h > 0.0)) continue;
@@ -618,7 +618,7 @@ DVec3 LinkReconstruction::sectorRead(const DVec3& p_world, const DVec3& normal, 
         for (int k = 0; k < count; ++k) {
             const double a0 = kPi * k / count, a1 = kPi * (k + 1) / count, middle = 0.5 * (a0 + a1);
             const std::array<DVec3, 3> wedge{p_world, p_world + reach * direction(a1), p_world + reach * direction(a0)};
-            const double w = piecePointFormFactor(from, normal, wedge, beside_normal);
+            const double w = pointPolygonFormFactor(from, normal, wedge, beside_normal);
             if (counters) ++counters->form_factors;
             if (!(w > 0.0)) continue;
             const auto same = std::find_if(known.begin(), known.end(),
