@@ -66,8 +66,9 @@ std::string presetValues(Field field) {
 
 }  // namespace
 
-BakeOptions bakeOptions(const BakeArgs& args) {
+BakeOptions bakeOptions(const BakeArgs& args, const Ranks& ranks) {
     BakeOptions options = BakeOptions::forQuality(lookup(kQualities, args.quality_name));
+    options.threading.ranks = &ranks;
     SolverOptions& solver = options.solver;
     solver.visibility = lookup(kVisibilities, args.visibility_name);
     if (args.error_threshold_option->count()) solver.error_threshold = args.error_threshold;
@@ -170,8 +171,7 @@ int runBakeInto(const BakeArgs& args, const Ranks& ranks, const MakeBake& make,
     Diagnostics diagnostics;
     routeRankDiagnostics(ranks, diagnostics, progress);
     if (!ranks.lead()) {  // the lead alone writes
-        BakeOptions options = bakeOptions(args);
-        options.threading.ranks = &ranks;
+        BakeOptions options = bakeOptions(args, ranks);
         if (!readBakeSideFiles(args, options, diagnostics)) return kExitInputError;
         return make(options, progress, diagnostics).ok() ? kExitOk : kExitInputError;
     }
@@ -188,8 +188,7 @@ int runBakeInto(const BakeArgs& args, const Ranks& ranks, const MakeBake& make,
     OutputTransaction transaction(out_dir);
     if (!transaction.begin(diagnostics) || !claimOutputFolder(transaction, sceneNameOf(args.scene), diagnostics))
         return kExitInputError;
-    BakeOptions options = bakeOptions(args);
-    options.threading.ranks = &ranks;
+    BakeOptions options = bakeOptions(args, ranks);
     if (!readBakeSideFiles(args, options, diagnostics)) return kExitInputError;
     const Bake result = make(options, progress, diagnostics);
     if (!result.ok()) return kExitInputError;

@@ -51,8 +51,8 @@ struct BakeArgs {
 // Registers every bake option (all but the scene and the output folder) on `cmd`, into `args`.
 void addBakeOptions(CLI::App& cmd, BakeArgs& args);
 
-// The preset of --quality, then every knob the command line gave.
-BakeOptions bakeOptions(const BakeArgs& args);
+// The preset of --quality, then every knob the command line gave; shared between `ranks`.
+BakeOptions bakeOptions(const BakeArgs& args, const Ranks& ranks = Ranks::one());
 
 // Reads the files the options name (--probes, --lightmap-scales, --realtime-lights) into
 // `options`; false after reporting.

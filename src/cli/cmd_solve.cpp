@@ -24,8 +24,7 @@ int runSolve(const BakeArgs& args) {
     Diagnostics diagnostics;
     routeRankDiagnostics(ranks, diagnostics, progress);
     if (ranks.lead() && !depfileWritable(args, diagnostics)) return kExitInputError;
-    BakeOptions options = bakeOptions(args);
-    options.threading.ranks = &ranks;
+    BakeOptions options = bakeOptions(args, ranks);
     const SolveOnly solved = solveOnly(args.scene, options, progress, diagnostics);
     if (!solved.ok()) return kExitInputError;
     if (!ranks.lead()) return kExitOk;  // the lead alone writes

@@ -58,16 +58,17 @@ public:
         if (r.size() == 1) return forEach(count, block, compute);
         block = block > 0 ? block : 1;
         const size_t blocks = (count + block - 1) / block, size = static_cast<size_t>(r.size());
+        // Rank k owns blocks k, k + size, k + 2 size, ...: its j-th is block k + j size.
         const auto ownBlocks = [&](size_t rank) { return blocks > rank ? (blocks - rank + size - 1) / size : 0; };
+        const auto forBlock = [&](size_t rank, size_t j, auto&& f) {
+            for (size_t i = (rank + j * size) * block, end = std::min(count, i + block); i < end; ++i) f(i);
+        };
         const auto forOwn = [&](size_t rank, auto&& f) {
-            for (size_t j = 0; j < ownBlocks(rank); ++j)
-                for (size_t i = (rank + j * size) * block, end = std::min(count, i + block); i < end; ++i) f(i);
+            for (size_t j = 0; j < ownBlocks(rank); ++j) forBlock(rank, j, f);
         };
         const size_t me = static_cast<size_t>(r.rank());
         const auto start = std::chrono::steady_clock::now();
-        forEach(ownBlocks(me), 1, [&](size_t j) {
-            for (size_t i = (me + j * size) * block, end = std::min(count, i + block); i < end; ++i) compute(i);
-        });
+        forEach(ownBlocks(me), 1, [&](size_t j) { forBlock(me, j, compute); });
         r.addSharedSeconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         Writer writer;
         forOwn(me, [&](size_t i) { encode(writer, i); });

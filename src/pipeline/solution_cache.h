@@ -36,6 +36,6 @@ bool solutionFileHolds(const std::string& key, const std::filesystem::path& file
 // ranks, the lead reads the file and sends it to the others (collective).
 std::optional<Solution> loadSolution(const Scene& scene, const SolverOptions& options, const std::string& key,
                                      const std::filesystem::path& file, int threads, Diagnostics& diagnostics,
-                                     const Ranks& ranks = Ranks());
+                                     const Ranks& ranks = Ranks::one());
 
 }  // namespace radbake
