@@ -971,14 +971,20 @@ std::vector<double> ClusterTransfer::leafFactors(const Solution& s, ParallelRunn
                 }
                 return;
             }
-            // Small (near) links: the exact point-to-polygon form factor of each pair that carries light.
+            // Small (near) links: the exact point-to-polygon form factor of each pair that carries
+            // light (two sources at a time, summed in member order).
             const NodeMembers rm = membersOf(s, link.receiver);
             const uint32_t j = s.member_position[leaf.root] - rm.first;
+            std::array<PolygonView, kPairwiseLimit> lit;  // a kernel's pairs fit one 64-bit mask
+            std::array<double, kPairwiseLimit> f;
+            size_t count = 0;
             for (uint32_t i = 0; i < sm.count; ++i) {
                 if (!(pairKernelOf(s, link, i * rm.count + j) > 0.0)) continue;
-                const Element& src = s.elements[s.cluster_members[sm.first + i]];
-                sum += pointPolygonFormFactor(leaf.centroid, leaf.normal, polygonOf(s, src).vertices, src.normal);
+                lit[count++] = polygonOf(s, s.elements[s.cluster_members[sm.first + i]]);
             }
+            pointPolygonFormFactorsTo(leaf.centroid, leaf.normal, std::span<const PolygonView>(lit.data(), count),
+                                      f.data());
+            for (size_t i = 0; i < count; ++i) sum += f[i];
         });
         kernel_at[k] = sum;
         if (kept) kept->keep(leaves[k], signature, sum);

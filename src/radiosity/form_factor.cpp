@@ -332,6 +332,59 @@ void pointPolygonFormFactors(std::span<const DVec3> points, const DVec3& normal,
     }
 }
 
+namespace {
+
+// True when pointPolygonFormFactor at the point reads `source` whole: in front of it, every
+// vertex above the horizon (no clip), a polygon it takes.
+bool seenWhole(const DVec3& point, const DVec3& normal, const PolygonView& source) {
+    const size_t n = source.vertices.size();
+    if (n < 3 || n >= kMaxClip - 1) return false;
+    if (!(glm::dot(source.normal, point - source.vertices[0]) > 0.0)) return false;
+    for (const DVec3& v : source.vertices)
+        if (!(glm::dot(normal, v - point) >= 0.0)) return false;
+    return true;
+}
+
+// The contour integrals of two sources of n vertices each, seen whole from the point, in lanes
+// 0 and 1, each summed in its own edge order.
+void contourOfTwo(const DVec3& point, const DVec3& normal, std::span<const DVec3> a, std::span<const DVec3> b,
+                  double& sum_a, double& sum_b) {
+    const size_t n = a.size();
+    sum_a = 0.0, sum_b = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        const size_t j = i + 1 == n ? 0 : i + 1;
+        const DVec3 a0 = a[i] - point, a1 = a[j] - point, b0 = b[i] - point, b1 = b[j] - point;
+        Lanes term, c_len;
+        edgeTermLanes(Lanes{a0.x, b0.x}, Lanes{a0.y, b0.y}, Lanes{a0.z, b0.z}, Lanes{a1.x, b1.x},
+                      Lanes{a1.y, b1.y}, Lanes{a1.z, b1.z}, normal, term, c_len);
+        if (c_len[0] > 0.0) sum_a += term[0];
+        if (c_len[1] > 0.0) sum_b += term[1];
+    }
+}
+
+}  // namespace
+
+void pointPolygonFormFactorsTo(const DVec3& point, const DVec3& normal, std::span<const PolygonView> sources,
+                               double* out) {
+    size_t k = 0;
+    while (k < sources.size()) {
+        const PolygonView& a = sources[k];
+        if (k + 1 < sources.size()) {
+            const PolygonView& b = sources[k + 1];
+            if (a.vertices.size() == b.vertices.size() && seenWhole(point, normal, a) && seenWhole(point, normal, b)) {
+                double sum_a, sum_b;
+                contourOfTwo(point, normal, a.vertices, b.vertices, sum_a, sum_b);
+                out[k] = std::abs(sum_a) / (2.0 * kPi);
+                out[k + 1] = std::abs(sum_b) / (2.0 * kPi);
+                k += 2;
+                continue;
+            }
+        }
+        out[k] = pointPolygonFormFactor(point, normal, a.vertices, a.normal);
+        ++k;
+    }
+}
+
 size_t clipAboveHorizon(const DVec3& point, const DVec3& normal, std::span<const DVec3> loop, DVec3* out) {
     const size_t n = loop.size();
     size_t count = 0;

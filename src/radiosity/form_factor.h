@@ -24,6 +24,12 @@ double pointPolygonFormFactor(const DVec3& point, const DVec3& normal, std::span
 void pointPolygonFormFactors(std::span<const DVec3> points, const DVec3& normal, std::span<const DVec3> source,
                              const DVec3& source_normal, double* out);
 
+// pointPolygonFormFactor at one point (and normal) to each of `sources`, written to `out`: the
+// same values to the bit, two sources at a time where two in a row have as many vertices and
+// lie wholly above the point's horizon.
+void pointPolygonFormFactorsTo(const DVec3& point, const DVec3& normal, std::span<const PolygonView> sources,
+                               double* out);
+
 // The largest polygon pointPolygonFormFactor takes, plus room for the vertex its clip adds.
 inline constexpr size_t kMaxClip = 64;
 

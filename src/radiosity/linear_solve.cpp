@@ -70,14 +70,37 @@ struct Operator {
     // quarter of its cost; the corrections only redistribute within a root, so this moves
     // no power (it was most of a solve's set-up on the 35k-triangle classroom).
     static constexpr double kFarSource = 8.0;
-    double leafAverage(const Element& leaf, const Element& source_element) const {
+    bool centroidRule(const Element& leaf, const Element& source) const {
+        const DVec3 d = source.centroid - leaf.centroid;
+        const double near = kFarSource * (leaf.radius + source.radius);
+        return leaf.vertex_count != 4 || glm::dot(d, d) > near * near;
+    }
+    // V x the leaf average of every link the leaf inherits, summed in link order (the centroid
+    // rule's form factors computed two sources at a time).
+    double inheritedExactSum(const Element& leaf) const {
+        thread_local std::vector<PolygonView> far;
+        thread_local std::vector<double> far_f;
+        far.clear();
+        for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent)
+            for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l) {
+                const Element& source = s.elements[s.links[l].source];
+                if (centroidRule(leaf, source)) far.push_back(polygonOf(s, source));
+            }
+        far_f.resize(far.size());
+        pointPolygonFormFactorsTo(leaf.centroid, leaf.normal, far, far_f.data());
         const PolygonView poly = polygonOf(s, leaf);
-        const PolygonView source = polygonOf(s, source_element);
-        const DVec3 d = source_element.centroid - leaf.centroid;
-        const double near = kFarSource * (leaf.radius + source_element.radius);
-        if (poly.vertices.size() != 4 || glm::dot(d, d) > near * near)
-            return pointPolygonFormFactor(leaf.centroid, leaf.normal, source.vertices, source.normal);
-        return gaussAveragedFormFactor(poly.vertices, leaf.normal, source.vertices, source.normal);
+        double exact = 0.0;
+        size_t next = 0;
+        for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent)
+            for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l) {
+                const Element& source = s.elements[s.links[l].source];
+                const double f = centroidRule(leaf, source) ? far_f[next++]
+                                                            : gaussAveragedFormFactor(poly.vertices, leaf.normal,
+                                                                                      polygonOf(s, source).vertices,
+                                                                                      source.normal);
+                exact += s.links[l].visibility * f;
+            }
+        return exact;
     }
 
     void computeCorrections() {
@@ -100,9 +123,7 @@ struct Operator {
                 }
             }
             if (!kept || !kept->find(leaves[k], signature, exact)) {
-                for (uint32_t a = leaf.parent; a != kNoElement; a = s.elements[a].parent)
-                    for (size_t l = link_begin[a]; l < link_begin[a + 1]; ++l)
-                        exact += s.links[l].visibility * leafAverage(leaf, s.elements[s.links[l].source]);
+                exact = inheritedExactSum(leaf);
                 if (kept) kept->keep(leaves[k], signature, exact);
             }
             double own = 0.0;

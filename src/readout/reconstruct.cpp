@@ -221,19 +221,11 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
     // visibility; a cluster pair's V is 1 (it carries light only where its one ray was open,
     // and its kernel, that ray times the form factor averaged over the receiver, is read at
     // the point as the point's own form factor).
+    // Deferred sources are listed first, then their form factors taken together (listDeferred).
+    thread_local std::vector<std::pair<uint32_t, double>> deferred;  // source, its link's visibility
+    deferred.clear();
     const auto defer = [&](uint32_t source_index, double visibility) {
-        const Element& source = s.elements[source_index];
-        if (!(maxChannel(source.radiosity) > 0.0)) return;
-        const PolygonView poly = polygonOf(s, source);
-        double exact = -1.0;
-        double f = farFormFactor(g.point, g.normal, source, poly.vertices);
-        if (f < 0.0) {
-            f = exact = pointPolygonFormFactor(g.point, g.normal, poly.vertices, source.normal);
-            if (g.counters) ++g.counters->form_factors;
-        }
-        if (!(f > 0.0)) return;
-        pending.push_back({source_index, exact, f * maxChannel(source.radiosity), f * visibility * source.radiosity,
-                           visibility > 0.0 && visibility < 1.0});
+        if (maxChannel(s.elements[source_index].radiosity) > 0.0) deferred.emplace_back(source_index, visibility);
     };
     for (uint32_t a = leaf; a != kNoElement; a = s.elements[a].parent)
         for (size_t l = link_begin_[a]; l < link_begin_[a + 1]; ++l) {
@@ -249,7 +241,7 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
                 defer(link.source, link.visibility);
             }
         }
-    if (cluster_begin_.empty()) return;
+    if (cluster_begin_.empty()) return listDeferred(deferred, g, pending);
     const uint32_t root = s.elements[leaf].root;
     const auto visit = [&](uint32_t node) {
         const size_t key = keyOf(s, node);
@@ -302,6 +294,38 @@ void LinkReconstruction::gatherLinks(uint32_t leaf, gather::Gatherer& g, std::ve
             if (!(kernel > 0.0) && !inFront(s.elements[pair.member])) continue;
             defer(pair.member, kernel > 0.0 ? 1.0 : 0.0);
         }
+    }
+    listDeferred(deferred, g, pending);
+}
+
+// The deferred sources into `pending`, in order, with their unoccluded light at the point: the
+// far-field kernel where it holds, else the exact form factor (two sources at a time).
+void LinkReconstruction::listDeferred(std::span<const std::pair<uint32_t, double>> deferred, gather::Gatherer& g,
+                                      std::vector<PendingSource>& pending) const {
+    const Solution& s = s_;
+    thread_local std::vector<double> f;
+    thread_local std::vector<PolygonView> exact_polygons;
+    thread_local std::vector<double> exact_f;
+    f.resize(deferred.size());
+    exact_polygons.clear();
+    for (size_t k = 0; k < deferred.size(); ++k) {
+        const Element& source = s.elements[deferred[k].first];
+        const PolygonView poly = polygonOf(s, source);
+        f[k] = farFormFactor(g.point, g.normal, source, poly.vertices);
+        if (f[k] < 0.0) exact_polygons.push_back(poly);
+    }
+    exact_f.resize(exact_polygons.size());
+    pointPolygonFormFactorsTo(g.point, g.normal, exact_polygons, exact_f.data());
+    if (g.counters) g.counters->form_factors += exact_polygons.size();
+    size_t next = 0;
+    for (size_t k = 0; k < deferred.size(); ++k) {
+        const auto [source_index, visibility] = deferred[k];
+        const Element& source = s.elements[source_index];
+        double exact = -1.0;
+        if (f[k] < 0.0) f[k] = exact = exact_f[next++];
+        if (!(f[k] > 0.0)) continue;
+        pending.push_back({source_index, exact, f[k] * maxChannel(source.radiosity),
+                           f[k] * visibility * source.radiosity, visibility > 0.0 && visibility < 1.0});
     }
 }
 

@@ -21,6 +21,7 @@
 #include <atomic>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/parallel.h"
@@ -168,6 +169,8 @@ private:
     const RootPairs& pairsOf(uint32_t root) const;
     void gatherLinks(uint32_t leaf, gather::Gatherer& g, std::vector<PendingSource>& pending,
                      DVec3& separable) const;
+    void listDeferred(std::span<const std::pair<uint32_t, double>> deferred, gather::Gatherer& g,
+                      std::vector<PendingSource>& pending) const;
 
     const Solution& s_;
     ReadoutOptions o_;

@@ -159,3 +159,38 @@ TEST_CASE("batched point form factors are the scalar ones to the bit") {
     CHECK(clipped > 1000);
     CHECK(behind > 1000);
 }
+
+TEST_CASE("point form factors to several sources are the scalar ones to the bit") {
+    // Runs of random convex polygons (mixed vertex counts, so pairs and singles both occur) seen
+    // from random points: in front, behind and across the horizon.
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    size_t compared = 0, positive = 0;
+    for (int trial = 0; trial < 500; ++trial) {
+        std::vector<Poly> polys;
+        for (int k = 0; k < 1 + trial % 9; ++k) {
+            const size_t n = (trial + k) % 5 == 0 ? 3 : 4;
+            const DVec3 centre(3.0 * unit(rng), 3.0 * unit(rng), 2.0 + unit(rng));
+            std::vector<DVec3> loop;
+            for (size_t i = 0; i < n; ++i) {
+                const double angle = -2.0 * kPi * (static_cast<double>(i) + 0.3 * unit(rng)) / static_cast<double>(n);
+                loop.push_back(centre + 0.5 * DVec3(std::cos(angle), std::sin(angle), 0.0));
+            }
+            polys.push_back(makePoly(loop));
+        }
+        const DVec3 point(unit(rng), unit(rng), trial % 4 == 0 ? 2.5 : 0.5 * unit(rng));
+        const DVec3 normal = glm::normalize(DVec3(0.5 * unit(rng), 0.5 * unit(rng), 1.0));
+        std::vector<PolygonView> views;
+        for (const Poly& p : polys) views.push_back(p.view());
+        std::vector<double> batched(views.size(), -1.0);
+        pointPolygonFormFactorsTo(point, normal, views, batched.data());
+        for (size_t k = 0; k < views.size(); ++k) {
+            const double scalar = pointPolygonFormFactor(point, normal, views[k].vertices, views[k].normal);
+            CHECK(std::bit_cast<uint64_t>(batched[k]) == std::bit_cast<uint64_t>(scalar));
+            ++compared;
+            positive += scalar > 0.0;
+        }
+    }
+    CHECK(compared > 2000);
+    CHECK(positive > 500);
+}
