@@ -23,21 +23,12 @@ using UVec3 = glm::uvec3;
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-// atan2(y, x) for y >= 0 (an angle in [0, pi]: the angle between two vectors, y = |a x b|,
-// x = a . b), to within 3e-16 relative of std::atan2 and about three times as fast: the point
-// form factor spends most of its time here. Reduced to atan(u), |u| <= tan(pi / 8), by
-// atan2(y, x) = pi/2 - atan(x / y) and atan(r) = pi/4 + atan((r - 1) / (r + 1)); then
-// u + u^3 P(u^2), P from tools/gen_atan_coefficients.py.
-inline double atan2Upper(double y, double x) {
-    const double ax = std::abs(x);
-    const bool steep = y > ax;  // the angle from the x axis is above pi/4
-    const double a = steep ? ax : y, b = steep ? y : ax;  // a <= b
-    if (!(b > 0.0)) return x < 0.0 ? kPi : 0.0;  // both zero: std::atan2's answer
-    constexpr double kTanPi8 = 0.41421356237309504880;
-    const bool reduce = a > kTanPi8 * b;
-    const double u = reduce ? (a - b) / (a + b) : a / b;
-    const double z = u * u;
-    double p = 0.022750511120272942;
+// atan(u) for |u| <= tan(pi / 8): u + u^3 P(u^2), P from tools/gen_atan_coefficients.py.
+// T: double, or a GCC vector of doubles (the same operations on every lane).
+template <class T>
+inline T atanSmall(const T& u) {
+    const T z = u * u;
+    T p = T{} + 0.022750511120272942;
     p = p * z - 0.044833334623513882;
     p = p * z + 0.057363318138629805;
     p = p * z - 0.066496136378790052;
@@ -47,7 +38,22 @@ inline double atan2Upper(double y, double x) {
     p = p * z - 0.14285714266096475;
     p = p * z + 0.19999999999898407;
     p = p * z - 0.33333333333333248;
-    double angle = u + u * z * p;  // atan(a / b) in [0, pi/4]
+    return u + u * z * p;
+}
+
+// atan2(y, x) for y >= 0 (an angle in [0, pi]: the angle between two vectors, y = |a x b|,
+// x = a . b), to within 3e-16 relative of std::atan2 and about three times as fast: the point
+// form factor spends most of its time here. Reduced to atan(u), |u| <= tan(pi / 8), by
+// atan2(y, x) = pi/2 - atan(x / y) and atan(r) = pi/4 + atan((r - 1) / (r + 1)).
+inline double atan2Upper(double y, double x) {
+    const double ax = std::abs(x);
+    const bool steep = y > ax;  // the angle from the x axis is above pi/4
+    const double a = steep ? ax : y, b = steep ? y : ax;  // a <= b
+    if (!(b > 0.0)) return x < 0.0 ? kPi : 0.0;  // both zero: std::atan2's answer
+    constexpr double kTanPi8 = 0.41421356237309504880;
+    const bool reduce = a > kTanPi8 * b;
+    const double u = reduce ? (a - b) / (a + b) : a / b;
+    double angle = atanSmall(u);  // atan(a / b) in [0, pi/4]
     if (reduce) angle += 0.25 * kPi;
     if (steep) angle = 0.5 * kPi - angle;
     return x < 0.0 ? kPi - angle : angle;
