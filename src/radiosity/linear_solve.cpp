@@ -15,8 +15,14 @@ namespace {
 
 using Vector = std::vector<DVec3>;
 
-// Restart length: enough for the slow modes of rho ~ 0.99 to be caught in one cycle.
-constexpr int kRestart = 40;
+// Restart length: at least enough for the slow modes of rho ~ 0.99 to be caught in one cycle,
+// longer while the basis stays small (closed rooms at rho 0.999 restarted every 40 steps lose
+// what each cycle learnt), its memory bounded by kBasisBytes.
+constexpr size_t kMinRestart = 40, kMaxRestart = 120;
+constexpr size_t kBasisBytes = size_t(256) << 20;
+int restartLength(size_t n) {
+    return static_cast<int>(std::clamp(kBasisBytes / (sizeof(DVec3) * std::max<size_t>(n, 1)), kMinRestart, kMaxRestart));
+}
 
 struct Operator {
     Solution& s;
@@ -317,9 +323,10 @@ LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, Sol
         result.converged = true;
         return result;
     }
-    std::vector<Vector> basis(kRestart + 1, Vector(n));
-    std::vector<std::vector<double>> h(kRestart + 1, std::vector<double>(kRestart, 0.0));
-    std::vector<double> cs(kRestart), sn(kRestart), g(kRestart + 1), y(kRestart);
+    const int restart = restartLength(n);
+    std::vector<Vector> basis(1, Vector(n));  // grown as the cycle needs: most solves stop early
+    std::vector<std::vector<double>> h(restart + 1, std::vector<double>(restart, 0.0));
+    std::vector<double> cs(restart), sn(restart), g(restart + 1), y(restart);
     while (true) {
         // True residual r = b - (x - rho K x).
         op.apply(x, ax);
@@ -336,7 +343,7 @@ LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, Sol
         std::fill(g.begin(), g.end(), 0.0);
         g[0] = beta;
         int used = 0;
-        for (int j = 0; j < kRestart && result.iterations < max_iterations; ++j) {
+        for (int j = 0; j < restart && result.iterations < max_iterations; ++j) {
             op.apply(basis[j], w);
             ++result.iterations;
             for (size_t k = 0; k < n; ++k) w[k] = basis[j][k] - w[k];
@@ -346,6 +353,7 @@ LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, Sol
                 for (size_t k = 0; k < n; ++k) w[k] -= h[i][j] * basis[i][k];
             }
             h[j + 1][j] = op.norm(w);
+            if (basis.size() < size_t(j) + 2) basis.emplace_back(n);
             if (h[j + 1][j] > 0.0)
                 for (size_t k = 0; k < n; ++k) basis[j + 1][k] = w[k] / h[j + 1][j];
             for (int i = 0; i < j; ++i) {
