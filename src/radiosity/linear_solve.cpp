@@ -1,10 +1,12 @@
 #include "radiosity/linear_solve.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numeric>
 
+#include "core/progress.h"
 #include "radiosity/cluster.h"
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
@@ -20,6 +22,10 @@ using Vector = std::vector<DVec3>;
 // what each cycle learnt), its memory bounded by kBasisBytes.
 constexpr size_t kMinRestart = 40, kMaxRestart = 120;
 constexpr size_t kBasisBytes = size_t(256) << 20;
+// A solve phase's progress: its set-up (row sums most of all) up to kSetUpShare, then GMRES by
+// the residual's decades to the tolerance. Rough shares: the set-up dominates on large scenes.
+constexpr double kSetUpShare = 0.5, kRowSumShare = 0.4;
+
 int restartLength(size_t n) {
     return static_cast<int>(std::clamp(kBasisBytes / (sizeof(DVec3) * std::max<size_t>(n, 1)), kMinRestart, kMaxRestart));
 }
@@ -42,9 +48,10 @@ struct Operator {
     std::vector<double> cluster_share;  // per leaf: its share of its root's cluster irradiance
 
     RowSumCache* cache = nullptr;
+    Progress* progress = nullptr;  // the set-up's share of the phase, moved by the row sums
 
-    Operator(Solution& solution, ParallelRunner& r, RowSumCache* row_cache)
-        : s(solution), runner(r), clusters(solution), cache(row_cache) {
+    Operator(Solution& solution, ParallelRunner& r, RowSumCache* row_cache, Progress* phase)
+        : s(solution), runner(r), clusters(solution), cache(row_cache), progress(phase) {
         double total = 0.0;
         for (uint32_t i = 0; i < s.elements.size(); ++i)
             if (s.elements[i].isLeaf()) {
@@ -60,6 +67,7 @@ struct Operator {
         computeCorrections();
         cluster_share = clusters.leafFactors(s, runner, leaves, cache ? &cache->cluster_kernels : nullptr);
         limitRowSums();
+        if (progress) progress->update(kSetUpShare);
     }
 
     // Pushing a link's irradiance down assumes the form factor is uniform over its receiver;
@@ -114,7 +122,10 @@ struct Operator {
         std::vector<double> row_hier(leaves.size(), 0.0), row_exact(leaves.size(), 0.0);
         ElementMemo* kept = cache ? &cache->row_sums : nullptr;
         if (kept) kept->cover(s.elements.size());
+        std::atomic<size_t> done{0};
         const auto rowSums = [&](size_t k) {
+            if (progress && ++done % 1024 == 0)
+                progress->update(kRowSumShare * static_cast<double>(done) / static_cast<double>(leaves.size()));
             const Element& leaf = s.elements[leaves[k]];
             double hierarchical = 0.0, exact = 0.0;
             // Of the inherited links' sources and visibilities, in order: what the exact sum reads.
@@ -307,8 +318,8 @@ void groupLinksByReceiver(Solution& solution, std::vector<LinkRecord>* records) 
 }
 
 LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, SolveStart start, double tolerance,
-                                 int max_iterations, RowSumCache* cache) {
-    Operator op(solution, runner, cache);
+                                 int max_iterations, RowSumCache* cache, Progress* progress) {
+    Operator op(solution, runner, cache, progress);
     const size_t n = op.leaves.size();
     LinearSolveResult result;
     Vector b(n), x(n), r(n), w(n), ax(n);
@@ -324,6 +335,16 @@ LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, Sol
         return result;
     }
     const int restart = restartLength(n);
+    // The phase's fraction from the residual: the decades gone of those between the first and
+    // the tolerance.
+    double first_residual = -1.0;
+    const auto report = [&](double residual) {
+        if (!progress || !(residual > 0.0)) return;
+        if (first_residual < 0.0) first_residual = residual;
+        const double decades = std::log(first_residual / tolerance);
+        const double done = decades > 0.0 ? std::clamp(std::log(first_residual / residual) / decades, 0.0, 1.0) : 1.0;
+        progress->update(kSetUpShare + (1.0 - kSetUpShare) * done);
+    };
     std::vector<Vector> basis(1, Vector(n));  // grown as the cycle needs: most solves stop early
     std::vector<std::vector<double>> h(restart + 1, std::vector<double>(restart, 0.0));
     std::vector<double> cs(restart), sn(restart), g(restart + 1), y(restart);
@@ -334,6 +355,7 @@ LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, Sol
         for (size_t k = 0; k < n; ++k) r[k] = b[k] - x[k] + ax[k];
         const double beta = op.norm(r);
         result.residual = beta / b_norm;
+        report(result.residual);
         if (result.residual < tolerance) {
             result.converged = true;
             break;
@@ -369,6 +391,7 @@ LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, Sol
             g[j + 1] = -sn[j] * g[j];
             g[j] = cs[j] * g[j];
             used = j + 1;
+            report(std::abs(g[j + 1]) / b_norm);
             if (std::abs(g[j + 1]) / b_norm < 0.5 * tolerance || d == 0.0) break;
         }
         for (int i = used - 1; i >= 0; --i) {

@@ -5,6 +5,7 @@
 // rho = 0.99 plain Jacobi needs ~230 sweeps per decade, GMRES a few tens of steps in all.
 // Deterministic: every sum runs in a fixed order whatever the thread count.
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "radiosity/cluster.h"
 #include "radiosity/solution.h"
 
@@ -37,8 +38,9 @@ struct RowSumCache {
 // Leaves every element's radiosity and gathered irradiance consistent with the result.
 // Links must be grouped by receiver. `cache`, when given, is read and updated (see above); the
 // result is the same with or without it.
+// `progress`, when given, moves with the set-up and then the residual.
 LinearSolveResult solveHierarchy(Solution& solution, ParallelRunner& runner, SolveStart start, double tolerance,
-                                 int max_iterations, RowSumCache* cache = nullptr);
+                                 int max_iterations, RowSumCache* cache = nullptr, Progress* progress = nullptr);
 
 // Sorts links by receiver (stable, so the order within a receiver stays the creation order).
 void groupLinksByReceiver(Solution& solution, std::vector<struct LinkRecord>* records);

@@ -67,7 +67,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
     const int rounds = std::max(1, options.refine_rounds);
     for (int round = 0; round < rounds; ++round) {
         const std::string suffix = round == 0 ? "" : " " + std::to_string(round + 1);
-        progress.beginPhase("links" + suffix);
+        if (round == 0) progress.beginPhase("links");  // a later round's began with its reopening, below
         if (clusters && round == 0) pending = clusters->initial(progress);
         refineLinks(state, std::move(pending), progress);
         stopIfCancelled(runner);
@@ -77,7 +77,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         stopIfCancelled(runner);
         progress.beginPhase("solve" + suffix);
         result = solveHierarchy(s, runner, SolveStart::Emission, options.iteration_tolerance, options.max_iterations,
-                                &row_sums);
+                                &row_sums, &progress);
         stopIfCancelled(runner);
         s.stats.iterations += result.iterations;
         // The last round repeats the deferred pass while it lights new sources (each pass
@@ -103,11 +103,13 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
             groupClusterLinksByReceiver(s);
             progress.beginPhase("solve" + suffix + deferred_name);
             result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance, options.max_iterations,
-                                    &row_sums);
+                                    &row_sums, &progress);
             s.stats.iterations += result.iterations;
         }
         s.stats.rounds = round + 1;
         if (round + 1 == rounds) break;
+        // Reopening is the next round's linking (the clusters' part of it most of all).
+        progress.beginPhase("links " + std::to_string(round + 2));
         state.updateThresholds();
         pending = reopenLinks(state);
         bool clusters_changed = false;
