@@ -208,6 +208,56 @@ constexpr size_t kFaintRays = 32;
 // rounding of coordinates (1e-7), below any gap a lighting result can see.
 constexpr double kCoplanarTolerance = 1e-6;
 
+// The cluster refinement's progress: links evaluated over those evaluated and those to come.
+// Each level splits links towards pairwise ones (kPairwiseLimit member pairs at most), so the
+// levels to come follow from the member pairs per pending link and how fast the levels shrink
+// it, and their links from how fast they shrink the pairs in all (docs/scale.md: on a building
+// about 0.6 and 0.75 a level, the priors here; each level's own ratios are blended in).
+class RefinementEstimate {
+public:
+    void beginLevel(size_t pending, double pairs) {
+        evaluated_ += level_;
+        level_ = static_cast<double>(pending);
+        const double per_link = pairs / std::max(level_, 1.0);
+        if (last_pairs_ > 0.0) {
+            per_link_shrink_ = blend(per_link_shrink_, std::clamp(per_link / last_per_link_, 0.45, 0.8));
+            pairs_shrink_ = blend(pairs_shrink_, std::clamp(pairs / last_pairs_, 0.5, 0.95));
+        }
+        last_pairs_ = pairs, last_per_link_ = per_link;
+        expected_ = 0.0;
+        double links = level_, left = per_link;
+        for (int k = 0; k < 64 && left > 0.5 * kPairwiseLimit; ++k) {
+            left *= per_link_shrink_;
+            links *= pairs_shrink_ / per_link_shrink_;
+            expected_ += links;
+        }
+    }
+    // The phase's fraction after `done` of the level's links, `element_links` made so far (the
+    // phase evaluates them next, at about a cluster link's cost each, more as the levels to
+    // come make more); never below what it said before.
+    double fraction(size_t done, size_t element_links) {
+        const double evaluated = evaluated_ + static_cast<double>(done);
+        const double clusters = evaluated_ + level_ + expected_;
+        const double elements = static_cast<double>(element_links) * clusters / std::max(evaluated, 1.0);
+        shown_ = std::max(shown_, std::min(evaluated / std::max(clusters + elements, 1.0), 1.0));
+        return shown_;
+    }
+
+    // The cluster links' share of the phase once they are done.
+    double finished(size_t element_links) {
+        const double clusters = evaluated_ + level_;
+        shown_ = std::max(shown_, clusters / std::max(clusters + static_cast<double>(element_links), 1.0));
+        return shown_;
+    }
+
+private:
+    static double blend(double prior, double seen) { return std::sqrt(prior * seen); }
+    double evaluated_ = 0.0, level_ = 0.0, expected_ = 0.0;
+    double last_pairs_ = -1.0, last_per_link_ = -1.0;
+    double per_link_shrink_ = 0.6, pairs_shrink_ = 0.75;
+    double shown_ = 0.0;
+};
+
 }  // namespace
 
 void buildClusters(Solution& s) {
@@ -731,10 +781,14 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         return isCluster(node) ? glm::length(s.clusters[clusterOf(node)].box.extent()) : 2.0 * s.elements[node].radius;
     };
 
-    int level = 0;
+    RefinementEstimate estimate;
     std::vector<uint32_t> a_children, b_children;
     while (!pending.empty()) {
         checkMemoryBudget(state_.memory_budget_mb, "linking clusters");
+        double pairs = 0.0;
+        for (const PendingClusterLink& link : pending)
+            pairs += double(membersOf(s, link.receiver).count) * double(membersOf(s, link.source).count);
+        estimate.beginLevel(pending.size(), pairs);
         s.stats.candidate_links += pending.size();
         std::vector<PendingClusterLink> next;
         // In batches: every evaluation holds its candidate list until its decision, and a
@@ -814,11 +868,11 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 }
             }
             // The first half of the links phase (refine.cpp's element links the second).
-            progress.update(0.5 * refinementFraction(level + double(batch_end) / pending.size()));
+            progress.update(estimate.fraction(batch_end, out.size()));
         }
         pending = std::move(next);
-        ++level;
     }
+    state_.progress_base = estimate.finished(out.size());
     return out;
 }
 

@@ -556,13 +556,14 @@ void refineLinks(RefineState& state, std::vector<PendingLink> pending, Progress&
                 s.links.push_back(final_link);
                 state.records.push_back({spread, list});
             }
-            // After the cluster links (cluster.cpp: the first half), or the whole phase.
-            const double base = s.clusters.empty() ? 0.0 : 0.5;
+            // After the cluster links (cluster.cpp: their share), or the whole phase.
+            const double base = state.progress_base;
             progress.update(base + (0.98 - base) * refinementFraction(level + double(batch_end) / pending.size()));
         }
         pending = std::move(next);
         ++level;
     }
+    state.progress_base = 0.0;
     // A partial link that stopped refining gets its real visibility from rays.
     std::vector<double> visibility(needs_rays.size(), 1.0);
     std::vector<size_t> rays(needs_rays.size(), 0);

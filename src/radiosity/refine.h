@@ -65,6 +65,9 @@ struct RefineState {
     std::vector<double> irradiance{};
     bool local_active = false;
     double memory_budget_mb = 0.0;  // memoryBudgetMegabytes(options.max_memory_mb)
+    // The share of a linking phase the cluster links took (set at their end), where the
+    // element links' progress starts; 0 once refineLinks has run.
+    double progress_base = 0.0;
     // After a solve: the power rule relative to the power leaving the surfaces of each
     // light-exchange group, and the local rule's irradiances from the solved hierarchy.
     void updateThresholds();
