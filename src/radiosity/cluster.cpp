@@ -867,7 +867,7 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                     for (uint32_t c : a_children) push(c, link.source, list);
                 }
             }
-            // The first half of the links phase (refine.cpp's element links the second).
+            // The cluster links' share of the links phase (refine.cpp's element links the rest).
             progress.update(estimate.fraction(batch_end, out.size()));
         }
         pending = std::move(next);

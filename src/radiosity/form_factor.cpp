@@ -34,8 +34,9 @@ constexpr size_t kLanes = 2;
 
 // The terms of the contour integral for two edges (r0 -> r1 in each lane, seen from the
 // point): angle x (normal . (r0 x r1)) / |r0 x r1|, and |r0 x r1| (0: the edge adds nothing).
-[[gnu::always_inline]] inline void edgeTermLanes(const Lanes& x0, const Lanes& y0, const Lanes& z0, const Lanes& x1, const Lanes& y1,
-                   const Lanes& z1, const DVec3& normal, Lanes& term, Lanes& c_len) {
+[[gnu::always_inline]] inline void edgeTermLanes(const Lanes& x0, const Lanes& y0, const Lanes& z0, const Lanes& x1,
+                                                 const Lanes& y1, const Lanes& z1, const DVec3& normal, Lanes& term,
+                                                 Lanes& c_len) {
     const Lanes cx = y0 * z1 - y1 * z0, cy = z0 * x1 - z1 * x0, cz = x0 * y1 - x1 * y0;
     c_len = cx * cx + cy * cy + cz * cz;
     for (size_t k = 0; k < kLanes; ++k) c_len[k] = std::sqrt(c_len[k]);
@@ -43,6 +44,16 @@ constexpr size_t kLanes = 2;
     term = angle * (normal.x * cx + normal.y * cy + normal.z * cz) / c_len;
 }
 
+// True when pointPolygonFormFactor at the point reads `source` whole: in front of it, every
+// vertex above the horizon (no clip), a polygon it takes.
+bool seenWhole(const DVec3& point, const DVec3& normal, const PolygonView& source) {
+    const size_t n = source.vertices.size();
+    if (n < 3 || n >= kMaxClip - 1) return false;
+    if (!(glm::dot(source.normal, point - source.vertices[0]) > 0.0)) return false;
+    for (const DVec3& v : source.vertices)
+        if (!(glm::dot(normal, v - point) >= 0.0)) return false;
+    return true;
+}
 
 // Gauss-Legendre rules on [0, 1] (abscissae, weights), orders 1 to 4.
 struct GaussRule {
@@ -303,10 +314,8 @@ void pointPolygonFormFactors(std::span<const DVec3> points, const DVec3& normal,
         bool any = false;
         for (size_t k = 0; k < count; ++k) {
             const DVec3& p = points[first + k];
-            bool above = glm::dot(source_normal, p - source[0]) > 0.0;
-            for (size_t i = 0; i < n && above; ++i) above = glm::dot(normal, source[i] - p) >= 0.0;
             // A point behind the source, or whose horizon cuts it, takes the scalar path.
-            if (!above) {
+            if (!seenWhole(p, normal, {source, source_normal})) {
                 out[first + k] = pointPolygonFormFactor(p, normal, source, source_normal);
                 continue;
             }
@@ -322,17 +331,6 @@ void pointPolygonFormFactors(std::span<const DVec3> points, const DVec3& normal,
 }
 
 namespace {
-
-// True when pointPolygonFormFactor at the point reads `source` whole: in front of it, every
-// vertex above the horizon (no clip), a polygon it takes.
-bool seenWhole(const DVec3& point, const DVec3& normal, const PolygonView& source) {
-    const size_t n = source.vertices.size();
-    if (n < 3 || n >= kMaxClip - 1) return false;
-    if (!(glm::dot(source.normal, point - source.vertices[0]) > 0.0)) return false;
-    for (const DVec3& v : source.vertices)
-        if (!(glm::dot(normal, v - point) >= 0.0)) return false;
-    return true;
-}
 
 // The contour integrals of two sources of n vertices each, seen whole from the point, in lanes
 // 0 and 1, each summed in its own edge order.
