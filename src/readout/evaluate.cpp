@@ -71,7 +71,7 @@ DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DV
                .lift = lift,
                .counters = counters,
                .use_rays = solution.rays != nullptr};
-    for (uint32_t r = 0; r < solution.root_count; ++r) g.visit(r);
+    g.visitRoots(options.probe_faint_share);
     return g.sum +
            gather::punctualInside(solution, receiver_mesh, receiver_triangle, point_on_surface, normal,
                                   options.sky.grid > 0 ? &options.sky : nullptr);

@@ -325,6 +325,69 @@ struct Gatherer {
         if (counters) ++counters->pieces;
         sum += f * visible * e.radiosity;
     }
+
+    // Every root, the faintest read with one ray each (ReadoutOptions::probe_faint_share).
+    // Roots are gathered brightest first by a bound on their unoccluded light (form factor
+    // times brightest leaf); once the bounds of those left sum to at most `faint_share` of the
+    // light gathered so far, each of them takes one ray at its centre instead of the coarse
+    // rule's pieces, which moves the point by at most that share of its light. Seen from a
+    // point among furniture most roots are far, small and hidden: most of the exhaustive
+    // gather's rays went to light it cannot see.
+    struct RootLight {
+        uint32_t root = 0;
+        double form_factor = 0.0;
+        double bound = 0.0;  // form_factor x the brightest leaf's radiosity (max channel)
+    };
+    std::vector<RootLight> root_light{};
+    void visitRoots(double faint_share) {
+        if (!use_rays || !(faint_share > 0.0)) {
+            for (uint32_t r = 0; r < s.root_count; ++r) visit(r);
+            return;
+        }
+        root_light.clear();
+        double left = 0.0;
+        for (uint32_t r = 0; r < s.root_count; ++r) {
+            const Element& e = s.elements[r];
+            if (!(maxChannel(e.radiosity) > 0.0) || !facesPoint(e)) continue;
+            const double f = pointPolygonFormFactor(point, normal, polygonOf(s, e).vertices, e.normal);
+            if (counters) ++counters->form_factors;
+            if (!(f > 0.0)) continue;
+            root_light.push_back({r, f, f * brightestLeaf(r)});
+            left += root_light.back().bound;
+        }
+        std::sort(root_light.begin(), root_light.end(), [](const RootLight& a, const RootLight& b) {
+            return a.bound > b.bound || (a.bound == b.bound && a.root < b.root);
+        });
+        size_t k = 0;
+        for (; k < root_light.size() && left > faint_share * maxChannel(sum); ++k) {
+            left -= root_light[k].bound;
+            known_form_factor = root_light[k].form_factor;
+            visit(root_light[k].root);
+        }
+        for (; k < root_light.size(); ++k) {
+            const Element& e = s.elements[root_light[k].root];
+            int open = 0, total = 0;
+            double visible = 0.0;
+            castVisibility(polygonOf(s, e).vertices, e.normal, open, total, visible, 1);
+            if (counters) ++counters->pieces;
+            sum += root_light[k].form_factor * visible * e.radiosity;
+        }
+    }
+    // visit's own tests: the element faces the point and reaches above its horizon.
+    bool facesPoint(const Element& e) const {
+        const PolygonView poly = polygonOf(s, e);
+        if (!(glm::dot(e.normal, point - poly.vertices[0]) > 0.0)) return false;
+        for (const DVec3& v : poly.vertices)
+            if (glm::dot(normal, v - point) > 0.0) return true;
+        return false;
+    }
+    double brightestLeaf(uint32_t index) const {
+        const Element& e = s.elements[index];
+        if (e.isLeaf()) return maxChannel(e.radiosity);
+        double most = 0.0;
+        for (uint32_t c = 0; c < e.child_count; ++c) most = std::max(most, brightestLeaf(e.first_child + c));
+        return most;
+    }
 };
 
 // A point on a surface (a vertex) lies in the planes of the polygons around it, where the

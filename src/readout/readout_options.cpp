@@ -13,6 +13,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_visibility_coarse = 0.2;
             o.edge_correction = EdgeCorrection::Shared;
             o.probe_grazing_corner_rays = false;
+            o.probe_faint_share = 3e-2;
             o.sky = {8, 2};
             break;
         case Quality::Medium:
@@ -24,6 +25,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_visibility_coarse = 0.07;
             o.probe_corner_rays = true;
             o.probe_coarse_opening = true;
+            o.probe_faint_share = 1e-3;
             o.edge_correction = EdgeCorrection::On;
             o.sky = {16, 3};
             break;
@@ -34,6 +36,7 @@ ReadoutOptions ReadoutOptions::forQuality(Quality quality) {
             o.probe_visibility_coarse = 0.05;
             o.probe_corner_rays = true;
             o.probe_coarse_opening = true;
+            o.probe_faint_share = 0.0;
             o.edge_correction = EdgeCorrection::On;
             o.sky = {24, 4};
             break;

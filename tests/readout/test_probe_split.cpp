@@ -11,6 +11,7 @@
 
 #include "readout/evaluate_probe.h"
 #include "radiosity/form_factor.h"
+#include "radiosity/refine.h"
 #include "../radiosity/test_scenes.h"
 #include "visibility/ray_caster.h"
 
@@ -176,4 +177,51 @@ TEST_CASE("probe counters: an emitting square over a probe is split three times,
     CHECK(sameBits(h, probeIrradiance(*solution, readout, {0, 0, 0}, {0, 0, 1})));
     const std::vector<DVec3> square = {{-0.5, -0.5, 1.0}, {-0.5, 0.5, 1.0}, {0.5, 0.5, 1.0}, {0.5, -0.5, 1.0}};
     CHECK(h.x == doctest::Approx(kPi * pointPolygonFormFactor({0, 0, 0}, {0, 0, 1}, square, {0, 0, -1})).epsilon(1e-12));
+}
+
+TEST_CASE("the exhaustive gather's faintest roots take one ray each, within probe_faint_share of the light") {
+    // A lamp over the probe and 400 small tiles 8 m up (about 3 % of the probe's unoccluded
+    // light), a dark board at 4 m hiding those with x > 0: with a share of 5 % every tile is read
+    // with one ray instead of 2 x 2 once the lamp is gathered, and the probe moves by at most
+    // that share of its light; the default share takes the faintest tiles only.
+    Scene scene;
+    const uint32_t lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
+    const uint32_t tile = addMaterial(scene, Vec3(0.0f), Vec3(3.0f));
+    const uint32_t board = addMaterial(scene, Vec3(0.0f), Vec3(0.0f));
+    addQuad(scene, lamp, {-0.5f, -0.5f, 1.0f}, {-0.5f, 0.5f, 1.0f}, {0.5f, 0.5f, 1.0f}, {0.5f, -0.5f, 1.0f});
+    for (int i = 0; i < 20; ++i)
+        for (int j = 0; j < 20; ++j) {
+            const float x = -8.1f + 0.8f * float(i), y = -8.1f + 0.8f * float(j);
+            addQuad(scene, tile, {x, y, 8.0f}, {x, y + 0.05f, 8.0f}, {x + 0.05f, y + 0.05f, 8.0f}, {x + 0.05f, y, 8.0f});
+        }
+    addQuad(scene, board, {0.0f, -9.0f, 4.0f}, {0.0f, 9.0f, 4.0f}, {9.0f, 9.0f, 4.0f}, {9.0f, -9.0f, 4.0f});
+    Diagnostics diagnostics;
+    const auto solution = solve(scene, SolverOptions::forQuality(Quality::Medium), diagnostics);
+    REQUIRE(solution);
+    const DVec3 p{0.0, 0.0, 0.0}, n{0.0, 0.0, 1.0};
+    double unoccluded = 0.0, tiles = 0.0;
+    for (uint32_t r = 0; r < solution->root_count; ++r) {
+        const Element& e = solution->elements[r];
+        const double light = pointPolygonFormFactor(p, n, polygonOf(*solution, e).vertices, e.normal) * maxChannel(e.radiosity);
+        unoccluded += light;
+        if (e.centroid.z > 7.0) tiles += light;
+    }
+    REQUIRE(tiles > 0.02 * unoccluded);
+    REQUIRE(tiles < 0.05 * unoccluded);
+    ReadoutOptions exact = ReadoutOptions::forQuality(Quality::Medium);
+    exact.probe_faint_share = 0.0;
+    ReadoutOptions faint = exact;
+    faint.probe_faint_share = 0.05;
+    ProbeCounters exact_work, faint_work, default_work;
+    const DVec3 h_exact = probeIrradianceCounted(*solution, exact, p, n, exact_work);
+    const DVec3 h_faint = probeIrradianceCounted(*solution, faint, p, n, faint_work);
+    // The board hides a third or more of the tiles' light: the rays matter.
+    CHECK(maxChannel(h_exact) < unoccluded - 0.3 * tiles);
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(h_faint[c] - h_exact[c]) <= 0.05 * h_exact[c]);
+    // Here each tile is hidden or not as a whole: its one ray reads it right.
+    CHECK(maxChannel(h_faint) == doctest::Approx(maxChannel(h_exact)).epsilon(1e-3));
+    CHECK(exact_work.rays - faint_work.rays == 3 * 400);
+    probeIrradianceCounted(*solution, ReadoutOptions::forQuality(Quality::Medium), p, n, default_work);
+    CHECK(default_work.rays < exact_work.rays);
+    CHECK(default_work.rays > faint_work.rays);
 }
