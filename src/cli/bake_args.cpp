@@ -68,7 +68,6 @@ std::string presetValues(Field field) {
 
 BakeOptions bakeOptions(const BakeArgs& args, const Ranks& ranks) {
     BakeOptions options = BakeOptions::forQuality(lookup(kQualities, args.quality_name));
-    options.threading.ranks = &ranks;
     SolverOptions& solver = options.solver;
     solver.visibility = lookup(kVisibilities, args.visibility_name);
     if (args.error_threshold_option->count()) solver.error_threshold = args.error_threshold;
@@ -94,7 +93,7 @@ BakeOptions bakeOptions(const BakeArgs& args, const Ranks& ranks) {
     options.solution_file = args.solution_file;
     // A program that owns its process pins its workers (unpinned ones were seen sharing one
     // core on the 2-core build machines); the library does not unless asked.
-    options.threading = Threading{args.threads, !args.no_pin_threads};
+    options.threading = Threading{.threads = args.threads, .pin = !args.no_pin_threads, .ranks = &ranks};
     return options;
 }
 

@@ -35,6 +35,10 @@ void checkRanksBakeOneBake(const std::string& scene_name, const std::string& opt
         INFO(run.output);
         REQUIRE(run.exit_code == 0);
         checkSameOutputs(out, one);
+        // The work was shared, not repeated by each rank alone (which gives the same bytes).
+        const std::string timings = readBytes(out / "timings.json");
+        if (ranks > 1) CHECK(timings.find("\"ranks\": " + std::to_string(ranks)) != std::string::npos);
+        else CHECK(timings.find("\"ranks\"") == std::string::npos);
     }
 }
 
