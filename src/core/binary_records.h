@@ -4,7 +4,9 @@
 // records), read back with every length checked against what is left.
 #include <cstdint>
 #include <cstring>
+#include <deque>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -22,6 +24,26 @@ struct Writer {
         static_assert(std::is_trivially_copyable_v<T>);
         value(static_cast<uint64_t>(v.size()));
         bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    }
+};
+
+// Writer's bytes as views of the memory that holds the records (a value's own bytes; an array's
+// size, kept here, then its elements), for writing a large record set without a copy. The records
+// must outlive the views.
+struct PieceWriter {
+    std::deque<uint64_t> sizes;  // deque: the views of earlier sizes stay valid
+    std::vector<std::string_view> pieces;
+    template <class T>
+    void value(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        pieces.emplace_back(reinterpret_cast<const char*>(&v), sizeof v);
+    }
+    template <class T>
+    void array(const std::vector<T>& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        sizes.push_back(static_cast<uint64_t>(v.size()));
+        value(sizes.back());
+        pieces.emplace_back(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
     }
 };
 

@@ -716,7 +716,7 @@ bool writeAll(int fd, std::string_view bytes) {
 // Writes the temporary; empty on success, else why. What is already at `temporary` (a
 // killed run's leftover) is replaced, unless it is a FIFO, a device or a link: O_NOFOLLOW
 // and O_NONBLOCK keep the open from following or waiting, fstat refuses what is not regular.
-std::string writeTemporary(const fs::path& temporary, std::string_view bytes) {
+std::string writeTemporary(const fs::path& temporary, std::span<const std::string_view> pieces) {
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
     if (fd < 0) return "cannot create " + temporary.string() + ": " + std::strerror(errno);
     struct stat status {};
@@ -724,7 +724,8 @@ std::string writeTemporary(const fs::path& temporary, std::string_view bytes) {
         ::close(fd);
         return temporary.string() + " is in the way: not a regular file";
     }
-    const bool wrote = writeAll(fd, bytes);
+    bool wrote = true;
+    for (size_t k = 0; k < pieces.size() && wrote; ++k) wrote = writeAll(fd, pieces[k]);
     const int write_errno = errno;
     const bool closed = ::close(fd) == 0;
     if (!wrote || !closed) {
@@ -738,10 +739,14 @@ std::string writeTemporary(const fs::path& temporary, std::string_view bytes) {
 }  // namespace
 
 std::string replaceRegularFile(const fs::path& path, std::string_view bytes) {
+    return replaceRegularFile(path, std::span<const std::string_view>(&bytes, 1));
+}
+
+std::string replaceRegularFile(const fs::path& path, std::span<const std::string_view> pieces) {
     if (std::string why = whyNotReplaceable(path.string()); !why.empty()) return why;
     fs::path temporary = path;
     temporary += ".radbake-tmp";
-    if (std::string why = writeTemporary(temporary, bytes); !why.empty()) return why;
+    if (std::string why = writeTemporary(temporary, pieces); !why.empty()) return why;
     if (::rename(temporary.c_str(), path.c_str()) != 0) {
         const std::string why = std::strerror(errno);
         ::unlink(temporary.c_str());

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -108,5 +109,8 @@ bool writeFileBytes(const std::filesystem::path& path, std::string_view bytes, D
 // device or socket at `path` is refused and kept. Empty on success, else why it failed (the
 // real cause, never "Success"); no temporary is left behind either way.
 std::string replaceRegularFile(const std::filesystem::path& path, std::string_view bytes);
+// The same with the bytes given in pieces, written one after the other (a large file straight
+// from the memory that holds it, without a copy).
+std::string replaceRegularFile(const std::filesystem::path& path, std::span<const std::string_view> pieces);
 
 }  // namespace radbake
