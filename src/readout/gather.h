@@ -273,12 +273,9 @@ struct Gatherer {
         known_form_factor = -1.0;
         const Element& e = s.elements[index];
         if (!(maxChannel(e.radiosity) > 0.0)) return;  // B >= 0: an inner zero means all zero
+        if (!facesPoint(e)) return;
         const PolygonView poly = polygonOf(s, e);
         const DVec3& p = point;
-        if (!(glm::dot(e.normal, p - poly.vertices[0]) > 0.0)) return;  // behind the element
-        bool above = false;
-        for (const DVec3& v : poly.vertices) above = above || glm::dot(normal, v - p) > 0.0;
-        if (!above) return;  // wholly below the point's horizon
         const double distance = glm::length(e.centroid - p);
         const bool emitter = emitsMostOfItsLight(e);
         const bool coarse = coarseFor(emitter);
@@ -373,7 +370,7 @@ struct Gatherer {
             sum += root_light[k].form_factor * visible * e.radiosity;
         }
     }
-    // visit's own tests: the element faces the point and reaches above its horizon.
+    // The element's front faces the point and some of it is above the point's horizon.
     bool facesPoint(const Element& e) const {
         const PolygonView poly = polygonOf(s, e);
         if (!(glm::dot(e.normal, point - poly.vertices[0]) > 0.0)) return false;
