@@ -48,6 +48,53 @@ void Progress::beginPhase(std::string_view name) {
     if (show_) draw(false);
 }
 
+void Progress::beginStage(std::string_view name) {
+    stage_ = name;
+    stage_start_ = std::chrono::steady_clock::now();
+    ahead_fixed_ = -1.0;  // unknown until setAhead
+    ahead_per_second_ = 0.0;
+    stage_shown_ = 0.0;
+    left_said_ = 0.0;
+    said_at_ = 0.0;
+    logged_stage_tenths_ = 0;
+}
+
+void Progress::endStage() { stage_.clear(); }
+
+void Progress::setAhead(double fixed, double per_phase_second) {
+    ahead_fixed_.store(std::max(0.0, fixed), std::memory_order_relaxed);
+    ahead_per_second_.store(std::max(0.0, per_phase_second), std::memory_order_relaxed);
+}
+
+Progress::StageEstimate Progress::stageEstimate(bool phase_done) {
+    if (stage_.empty() || current_.empty() || ahead_fixed_.load(std::memory_order_relaxed) < 0.0) return {};
+    const double stage_elapsed = secondsSince(stage_start_);
+    const double phase_elapsed = secondsSince(phase_start_);
+    const double f = phase_done ? 1.0 : fraction_.load(std::memory_order_relaxed);
+    double shown = stage_shown_.load(std::memory_order_relaxed);
+    if (!(f > 0.01)) {
+        // The phase cannot tell its length yet: the last estimate, less the time since.
+        return {shown, std::max(0.0, left_said_.load(std::memory_order_relaxed) - (stage_elapsed - said_at_))};
+    }
+    const double phase_total = phase_elapsed / f;
+    const double left = phase_total - phase_elapsed + ahead_fixed_.load(std::memory_order_relaxed) +
+                        ahead_per_second_.load(std::memory_order_relaxed) * phase_total;
+    const double fraction = stage_elapsed / std::max(stage_elapsed + left, 1e-9);
+    while (fraction > shown && !stage_shown_.compare_exchange_weak(shown, fraction)) {
+    }
+    left_said_.store(left, std::memory_order_relaxed);
+    said_at_.store(stage_elapsed, std::memory_order_relaxed);
+    return {std::max(shown, fraction), left};
+}
+
+std::string Progress::stageText(const StageEstimate& e) const {
+    if (!(e.fraction > 0.0)) return "";
+    char buffer[96];
+    std::snprintf(buffer, sizeof buffer, "; %s %d %%, about %s left", stage_.c_str(),
+                  static_cast<int>(100.0 * e.fraction), duration(e.seconds_left).c_str());
+    return buffer;
+}
+
 void Progress::notify(bool phase_done, double phase_seconds) {
     ProgressEvent event;
     event.phase = current_;
@@ -55,6 +102,10 @@ void Progress::notify(bool phase_done, double phase_seconds) {
     event.phase_seconds = phase_seconds;
     event.total_seconds = totalSeconds();
     event.phase_done = phase_done;
+    const StageEstimate stage = stageEstimate(phase_done);
+    if (!stage_.empty()) event.stage = stage_;
+    event.stage_fraction = stage.fraction;
+    event.stage_seconds_left = stage.seconds_left;
     sink_(event);
 }
 
@@ -99,9 +150,9 @@ void Progress::draw(bool final_line) {
         std::fprintf(stderr, "\r\033[K%-12s done in %s\n", current_.c_str(), duration(elapsed).c_str());
         line_open_ = false;
     } else if (f > 0.01) {
-        std::fprintf(stderr, "\r\033[K%-12s %5.1f %%  elapsed %s (total %s)  remaining ~%s", current_.c_str(),
+        std::fprintf(stderr, "\r\033[K%-12s %5.1f %%  elapsed %s (total %s)  remaining ~%s%s", current_.c_str(),
                      100.0 * f, duration(elapsed).c_str(), duration(total).c_str(),
-                     duration(elapsed * (1.0 - f) / f).c_str());
+                     duration(elapsed * (1.0 - f) / f).c_str(), stageText(stageEstimate(false)).c_str());
         line_open_ = true;
     } else {
         std::fprintf(stderr, "\r\033[K%-12s elapsed %s (total %s)", current_.c_str(), duration(elapsed).c_str(),
@@ -116,16 +167,22 @@ void Progress::logLine(bool final_line) {
     const double elapsed = secondsSince(phase_start_);
     const double total = secondsSince(start_);
     if (final_line) {
-        std::fprintf(stderr, "radbake: %s done in %s (total %s)\n", current_.c_str(), duration(elapsed).c_str(),
-                     duration(total).c_str());
+        std::fprintf(stderr, "radbake: %s done in %s (total %s)%s\n", current_.c_str(), duration(elapsed).c_str(),
+                     duration(total).c_str(), stageText(stageEstimate(true)).c_str());
     } else {
+        // A line at every 10 % of the phase, and of the stage (a long phase may hold most of it).
         const double f = fraction_.load(std::memory_order_relaxed);
         const int tenths = static_cast<int>(10.0 * f);
-        if (tenths <= logged_tenths_ || tenths >= 10) return;
-        logged_tenths_ = tenths;
-        std::fprintf(stderr, "radbake: %s %d %%, %s in the phase (total %s), about %s left\n", current_.c_str(),
-                     10 * tenths, duration(elapsed).c_str(), duration(total).c_str(),
-                     duration(elapsed * (1.0 - f) / f).c_str());
+        const StageEstimate stage = stageEstimate(false);
+        const int stage_tenths = static_cast<int>(10.0 * stage.fraction);
+        const bool phase_step = tenths > logged_tenths_ && tenths < 10;
+        const bool stage_step = stage_tenths > logged_stage_tenths_ && stage_tenths < 10;
+        if (!phase_step && !stage_step) return;
+        if (phase_step) logged_tenths_ = tenths;
+        if (stage_step) logged_stage_tenths_ = stage_tenths;
+        std::fprintf(stderr, "radbake: %s %d %%, %s in the phase (total %s), about %s left%s\n", current_.c_str(),
+                     static_cast<int>(100.0 * f), duration(elapsed).c_str(), duration(total).c_str(),
+                     duration(elapsed * (1.0 - f) / f).c_str(), stageText(stage).c_str());
     }
     std::fflush(stderr);
 }

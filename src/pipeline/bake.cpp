@@ -114,6 +114,12 @@ void fillLightmapReport(const BakedLightmaps& baked, const LightmapOptions& opti
 
 // The parts and the solve into out.solution; false (status unset) when stopped or failed.
 bool solveFresh(Bake& out, ParallelRunner& runner, Progress& progress, Diagnostics& diagnostics) {
+    // The solve's phases report its fraction and time left as one (the solver knows what follows).
+    progress.beginStage("the solve");
+    struct EndStage {
+        Progress& progress;
+        ~EndStage() { progress.endStage(); }
+    } end_stage{progress};
     progress.beginPhase("parts");
     checkMemoryBudget(memoryBudgetMegabytes(out.options.solver.max_memory_mb), "parts");
     const PartSet parts = buildParts(*out.scene, PartOptions{}, diagnostics);

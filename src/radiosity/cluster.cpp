@@ -47,11 +47,13 @@
 //     of solve.cpp's row-sum correction, which keeps the root's power).
 #include "radiosity/cluster.h"
 #include "radiosity/cluster_nodes.h"
+#include "radiosity/refinement_clock.h"
 
 #include "core/memory.h"
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -207,56 +209,6 @@ constexpr size_t kFaintRays = 32;
 // Points this close to a plane (fraction of the scene's extent) lie in it: above float
 // rounding of coordinates (1e-7), below any gap a lighting result can see.
 constexpr double kCoplanarTolerance = 1e-6;
-
-// The cluster refinement's progress: links evaluated over those evaluated and those to come.
-// Each level splits links towards pairwise ones (kPairwiseLimit member pairs at most), so the
-// levels to come follow from the member pairs per pending link and how fast the levels shrink
-// it, and their links from how fast they shrink the pairs in all (docs/scale.md: on a building
-// about 0.6 and 0.75 a level, the priors here; each level's own ratios are blended in).
-class RefinementEstimate {
-public:
-    void beginLevel(size_t pending, double pairs) {
-        evaluated_ += level_;
-        level_ = static_cast<double>(pending);
-        const double per_link = pairs / std::max(level_, 1.0);
-        if (last_pairs_ > 0.0) {
-            per_link_shrink_ = blend(per_link_shrink_, std::clamp(per_link / last_per_link_, 0.45, 0.8));
-            pairs_shrink_ = blend(pairs_shrink_, std::clamp(pairs / last_pairs_, 0.5, 0.95));
-        }
-        last_pairs_ = pairs, last_per_link_ = per_link;
-        expected_ = 0.0;
-        double links = level_, left = per_link;
-        for (int k = 0; k < 64 && left > 0.5 * kPairwiseLimit; ++k) {
-            left *= per_link_shrink_;
-            links *= pairs_shrink_ / per_link_shrink_;
-            expected_ += links;
-        }
-    }
-    // The phase's fraction after `done` of the level's links, `element_links` made so far (the
-    // phase evaluates them next, at about a cluster link's cost each, more as the levels to
-    // come make more); never below what it said before.
-    double fraction(size_t done, size_t element_links) {
-        const double evaluated = evaluated_ + static_cast<double>(done);
-        const double clusters = evaluated_ + level_ + expected_;
-        const double elements = static_cast<double>(element_links) * clusters / std::max(evaluated, 1.0);
-        shown_ = std::max(shown_, std::min(evaluated / std::max(clusters + elements, 1.0), 1.0));
-        return shown_;
-    }
-
-    // The cluster links' share of the phase once they are done.
-    double finished(size_t element_links) {
-        const double clusters = evaluated_ + level_;
-        shown_ = std::max(shown_, clusters / std::max(clusters + static_cast<double>(element_links), 1.0));
-        return shown_;
-    }
-
-private:
-    static double blend(double prior, double seen) { return std::sqrt(prior * seen); }
-    double evaluated_ = 0.0, level_ = 0.0, expected_ = 0.0;
-    double last_pairs_ = -1.0, last_per_link_ = -1.0;
-    double per_link_shrink_ = 0.6, pairs_shrink_ = 0.75;
-    double shown_ = 0.0;
-};
 
 }  // namespace
 
@@ -781,48 +733,123 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
         return isCluster(node) ? glm::length(s.clusters[clusterOf(node)].box.extent()) : 2.0 * s.elements[node].radius;
     };
 
-    RefinementEstimate estimate;
-    std::vector<uint32_t> a_children, b_children;
-    while (!pending.empty()) {
-        checkMemoryBudget(state_.memory_budget_mb, "linking clusters");
-        double pairs = 0.0;
-        for (const PendingClusterLink& link : pending)
-            pairs += double(membersOf(s, link.receiver).count) * double(membersOf(s, link.source).count);
-        estimate.beginLevel(pending.size(), pairs);
-        s.stats.candidate_links += pending.size();
-        std::vector<PendingClusterLink> next;
-        // In batches: every evaluation holds its candidate list until its decision, and a
-        // level of a large scene holds hundreds of thousands of links.
-        std::vector<ClusterEvaluation> evals;
-        for (size_t batch = 0; batch < pending.size(); batch += kEvaluationBatch) {
-            const size_t batch_end = std::min(pending.size(), batch + kEvaluationBatch);
+    // A split link's children, given to push(receiver, source, list).
+    std::vector<uint32_t> a_children;
+    auto splitLink = [&](const PendingClusterLink& link, ClusterEvaluation& ev, auto&& push) {
+        // The children classify against this link's list, or its parent's when this one
+        // culled little (lists of thousands of parts per link were most of the memory).
+        uint32_t list = ev.list;
+        if (ev.new_list && ev.first_candidate_only) {
+            list = link.candidates;  // kept, then split by its rays: its list is incomplete
+        } else if (ev.new_list && 4 * candidatePartCount(state_.parts, ev.candidates) > 3 * ev.list_parts) {
+            list = link.candidates;
+        } else if (ev.new_list) {
+            list = static_cast<uint32_t>(state_.candidate_pool.size());
+            state_.candidate_pool.push_back(std::move(ev.candidates));
+        }
+        if (link.receiver == link.source) {
+            children(link.receiver, a_children);
+            for (uint32_t a : a_children)
+                for (uint32_t b : a_children) push(a, b, list);
+            return;
+        }
+        // Near ties split the receiver: a relative margin keeps the choice (and so element
+        // numbering) the same for a scene scaled by any factor.
+        const bool split_source =
+            !isCluster(link.receiver) ||
+            (isCluster(link.source) && diagonal(link.source) > (1.0 + 1e-6) * diagonal(link.receiver));
+        children(split_source ? link.source : link.receiver, a_children);
+        for (uint32_t c : a_children) {
+            if (split_source) push(link.receiver, c, list);
+            else push(c, link.source, list);
+        }
+    };
+    // Evaluates a level's links in batches (shared between ranks, or by this rank alone),
+    // handing each to decide(index, evaluation) in order and then the batch's end to batchDone.
+    std::vector<ClusterEvaluation> evals;
+    auto evaluateLevel = [&](const std::vector<PendingClusterLink>& level, bool shared, auto&& decide,
+                             auto&& batchDone) {
+        for (size_t batch = 0; batch < level.size(); batch += kEvaluationBatch) {
+            const size_t batch_end = std::min(level.size(), batch + kEvaluationBatch);
             evals.clear();
             evals.resize(batch_end - batch);
-            state_.runner.forEachShared(
-                evals.size(), 4, [&](size_t i) { evals[i] = evaluate(pending[batch + i]); },
-                [&](Writer& w, size_t i) { encodeEvaluation(w, evals[i]); },
-                [&](Reader& r, size_t i) { decodeEvaluation(r, evals[i]); });
-            auto push = [&](uint32_t r, uint32_t src, uint32_t list) {
-                if (r == src && !isCluster(r)) return;  // a root does not light itself
-                if (!isCluster(r) && !isCluster(src)) out.push_back({r, src, list});
-                else next.push_back({r, src, list});
-            };
-            for (size_t i = batch; i < batch_end; ++i) {
-                ClusterEvaluation& ev = evals[i - batch];
+            auto compute = [&](size_t i) { evals[i] = evaluate(level[batch + i]); };
+            if (shared) {
+                state_.runner.forEachShared(
+                    evals.size(), 4, compute, [&](Writer& w, size_t i) { encodeEvaluation(w, evals[i]); },
+                    [&](Reader& r, size_t i) { decodeEvaluation(r, evals[i]); });
+            } else {
+                state_.runner.forEach(evals.size(), 4, compute);
+            }
+            for (size_t i = batch; i < batch_end; ++i) decide(i, evals[i - batch]);
+            batchDone(batch_end);
+        }
+    };
+    // Refines every stride-th link of `level` to the end, discarding the results (the pool's
+    // new lists are dropped again): the seconds each level to come took on the sample, times
+    // the stride, and the root links it made, for the progress estimate. Only a rank whose
+    // progress is seen does it, alone (the ranks share the real levels: its time over their count).
+    auto refineSample = [&](const std::vector<PendingClusterLink>& level, size_t stride) {
+        RefinementClock::Sample sample;
+        const size_t pool_size = state_.candidate_pool.size();
+        std::vector<PendingClusterLink> links, next;
+        for (size_t i = stride / 2; i < level.size(); i += stride) links.push_back(level[i]);
+        sampled_links_ = links.size();
+        auto push = [&](uint32_t r, uint32_t src, uint32_t list) {
+            if (r == src && !isCluster(r)) return;
+            if (!isCluster(r) && !isCluster(src)) sample.root_links += double(stride);
+            else next.push_back({r, src, list});
+        };
+        while (!links.empty() && !state_.runner.cancelled()) {
+            const auto start = std::chrono::steady_clock::now();
+            next.clear();
+            evaluateLevel(
+                links, false,
+                [&](size_t i, ClusterEvaluation& ev) {
+                    if (ev.decision == Decision::Split) splitLink(links[i], ev, push);
+                },
+                [](size_t) {});
+            sample.level_seconds.push_back(double(stride) * secondsSince(start) / state_.runner.ranks().size());
+            sample.evaluations += double(stride) * double(links.size());
+            std::swap(links, next);
+        }
+        state_.candidate_pool.resize(pool_size);
+        return sample;
+    };
+
+    RefinementClock clock;
+    sampled_links_ = 0;
+    while (!pending.empty()) {
+        checkMemoryBudget(state_.memory_budget_mb, "linking clusters");
+        if (progress.watched() && !clock.sampled() && pending.size() >= kSampleFrom)
+            clock.setSample(refineSample(pending, std::max(kSampleStride, pending.size() / kSampleLinks)), out.size());
+        clock.beginLevel();
+        s.stats.candidate_links += pending.size();
+        std::vector<PendingClusterLink> next;
+        auto push = [&](uint32_t r, uint32_t src, uint32_t list) {
+            if (r == src && !isCluster(r)) return;  // a root does not light itself
+            if (!isCluster(r) && !isCluster(src)) out.push_back({r, src, list});
+            else next.push_back({r, src, list});
+        };
+        // In batches: every evaluation holds its candidate list until its decision, and a
+        // level of a large scene holds hundreds of thousands of links.
+        evaluateLevel(
+            pending, true,
+            [&](size_t i, ClusterEvaluation& ev) {
                 const PendingClusterLink& link = pending[i];
                 s.stats.rays += ev.rays;
                 s.stats.cluster_rays += ev.rays;
                 s.stats.shafts += ev.shaft ? 1 : 0;
                 if (ev.decision == Decision::Drop) {
                     ++(ev.occluded ? s.stats.occluded_links : s.stats.dropped_links);
-                    continue;
+                    return;
                 }
                 if (ev.decision != Decision::Keep) ++s.stats.split_links;
                 if (ev.decision == Decision::Keep && ev.visibility == 0.0f && !state_.options.keep_blocked_links) {
                     // Carries nothing and is never reopened: not stored (they were half of a
                     // building's cluster links, blocked by walls).
                     ++(ev.rays > 0 ? s.stats.occluded_links : s.stats.dropped_links);
-                    continue;
+                    return;
                 }
                 if (ev.decision == Decision::Keep) {
                     // Reopened, a link is classified again from its parent's list (a superset):
@@ -835,44 +862,18 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                                            .scale = ev.scale};
                     if (!ev.kernel.empty()) final_link.kernel = appendKernel(s, ev.kernel.data(), ev.kernel.size());
                     s.cluster_links.push_back(final_link);
-                    continue;
+                    return;
                 }
-                // Split: the children classify against this link's list, or its parent's when this
-                // one culled little (lists of thousands of parts per link were most of the memory).
-                uint32_t list = ev.list;
-                if (ev.new_list && ev.first_candidate_only) {
-                    list = link.candidates;  // kept, then split by its rays: its list is incomplete
-                } else if (ev.new_list && 4 * candidatePartCount(state_.parts, ev.candidates) > 3 * ev.list_parts) {
-                    list = link.candidates;
-                } else if (ev.new_list) {
-                    list = static_cast<uint32_t>(state_.candidate_pool.size());
-                    state_.candidate_pool.push_back(std::move(ev.candidates));
-                }
-                if (link.receiver == link.source) {
-                    children(link.receiver, a_children);
-                    for (uint32_t a : a_children)
-                        for (uint32_t b : a_children) push(a, b, list);
-                    continue;
-                }
-                // Near ties split the receiver: a relative margin keeps the choice (and so element
-                // numbering) the same for a scene scaled by any factor.
-                const bool split_source =
-                    !isCluster(link.receiver) ||
-                    (isCluster(link.source) && diagonal(link.source) > (1.0 + 1e-6) * diagonal(link.receiver));
-                if (split_source) {
-                    children(link.source, a_children);
-                    for (uint32_t c : a_children) push(link.receiver, c, list);
-                } else {
-                    children(link.receiver, a_children);
-                    for (uint32_t c : a_children) push(c, link.source, list);
-                }
-            }
+                splitLink(link, ev, push);
+            },
             // The cluster links' share of the links phase (refine.cpp's element links the rest).
-            progress.update(estimate.fraction(batch_end, out.size()));
-        }
+            [&](size_t batch_end) {
+                progress.update(clock.fraction(double(batch_end) / double(pending.size()), out.size()));
+            });
+        clock.endLevel();
         pending = std::move(next);
     }
-    state_.progress_base = estimate.finished(out.size());
+    state_.progress_base = clock.finished(out.size());
     return out;
 }
 

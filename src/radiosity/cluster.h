@@ -62,6 +62,10 @@ public:
     // plane does not). 0 when they may touch.
     double minDistance(uint32_t a, uint32_t b) const;
 
+    // The links the last refinement's progress estimate refined ahead (0: none, as when no
+    // one watches the progress); for tests.
+    size_t sampledLinks() const { return sampled_links_; }
+
     // Per-node power and thresholds for the oracle, from the roots' radiosity (before the
     // first solve: their emission). initial and reopen call it; exposed for tests.
     void prepareRound();
@@ -78,6 +82,7 @@ private:
     std::vector<Plane> cluster_plane_;
     std::vector<double> node_power_;      // per root, then per cluster: sum A B (max channel)
     std::vector<double> node_threshold_;  // per root, then per cluster: the least threshold of its members
+    size_t sampled_links_ = 0;
 };
 
 // Calls join(a, b) on pairs of roots that exchange light through a cluster link (enough

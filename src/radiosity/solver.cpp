@@ -1,6 +1,7 @@
 // solveRadiosity: roots, direct light, refine-solve rounds. The module boundary: nothing
 // thrown below escapes (reported to Diagnostics instead).
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -40,6 +41,75 @@ void stopIfCancelled(const ParallelRunner& runner) {
     if (runner.cancelled()) throw Cancelled{};
 }
 
+// What the solve expects its phases after the current one to take (Progress::setAhead): the
+// phases done as measured, the rest from their ratios on the generated buildings
+// (docs/scale.md, "The solve's progress"), as a + b x the current phase's own length x.
+class SolveTimeline {
+public:
+    SolveTimeline(Progress& progress, int rounds, bool clusters)
+        : progress_(progress), rounds_(rounds), clusters_(clusters) {}
+    // Called just after the phase began; pass -1 for a round's own links and solve, else the
+    // deferred pass.
+    void links(int round, int pass) { begin(Kind::Links, round, pass); }
+    void solve(int round, int pass) { begin(Kind::Solve, round, pass); }
+
+private:
+    enum class Kind { Links, Solve };
+    struct Lin {  // a + b x
+        double a = 0.0, b = 0.0;
+        Lin operator+(Lin o) const { return {a + o.a, b + o.b}; }
+        Lin operator*(double k) const { return {a * k, b * k}; }
+    };
+    static constexpr double kSolveShare = 0.07;         // a solve: of the linking before it
+    static constexpr double kFirstDeferredShare = 6.0;  // the first deferred pass: of round 1's links
+    static constexpr double kReopenShare = 0.18;        // a later round's links: of the linking before
+    static constexpr double kLaterPassShare = 0.01;     // each phase of a later deferred pass
+
+    void begin(Kind kind, int round, int pass) {
+        const auto now = std::chrono::steady_clock::now();
+        if (current_links_) {
+            const double length = std::chrono::duration<double>(now - start_).count();
+            linking_ += length;
+            if (current_first_) first_links_ = length;
+        }
+        start_ = now;
+        current_links_ = kind == Kind::Links;
+        current_first_ = current_links_ && round == 0 && pass < 0;
+        // The current phase's length is x; the linking so far includes it when it links.
+        Lin linking{linking_, current_links_ ? 1.0 : 0.0};
+        const Lin first = current_first_ ? Lin{0.0, 1.0} : Lin{first_links_, 0.0};
+        // The phases to come, in solveRounds' order.
+        Lin ahead;
+        bool after = false;
+        for (int r = 0; r < rounds_; ++r) {
+            const int passes = !clusters_ ? 0 : r + 1 == rounds_ ? kLastRoundDeferredPasses : 1;
+            for (int p = -1; p < passes; ++p)
+                for (Kind k : {Kind::Links, Kind::Solve}) {
+                    if (!after) {
+                        after = k == kind && r == round && p == pass;
+                        continue;
+                    }
+                    const Lin t = expected(k, r, p, linking, first);
+                    ahead = ahead + t;
+                    if (k == Kind::Links) linking = linking + t;
+                }
+        }
+        progress_.setAhead(ahead.a, ahead.b);
+    }
+    static Lin expected(Kind k, int round, int pass, Lin linking, Lin first) {
+        if (pass < 0) return linking * (k == Kind::Solve ? kSolveShare : kReopenShare);  // round 0's links never ahead
+        if (round == 0 && pass == 0) return k == Kind::Solve ? linking * kSolveShare : first * kFirstDeferredShare;
+        return linking * kLaterPassShare;  // few links, and a solve from the current radiosity
+    }
+
+    Progress& progress_;
+    int rounds_;
+    bool clusters_;
+    bool current_links_ = false, current_first_ = false;
+    double linking_ = 0.0, first_links_ = -1.0;
+    std::chrono::steady_clock::time_point start_;
+};
+
 void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& options, ParallelRunner& runner,
                  Progress& progress, Diagnostics& diagnostics, Solution& s) {
     RefineState state = makeRefineState(scene, parts, options, runner, s);
@@ -65,9 +135,13 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
     LinearSolveResult result;
     RowSumCache row_sums;
     const int rounds = std::max(1, options.refine_rounds);
+    SolveTimeline timeline(progress, rounds, clusters.has_value());
     for (int round = 0; round < rounds; ++round) {
         const std::string suffix = round == 0 ? "" : " " + std::to_string(round + 1);
-        if (round == 0) progress.beginPhase("links");  // a later round's began with its reopening, below
+        if (round == 0) {
+            progress.beginPhase("links");  // a later round's began with its reopening, below
+            timeline.links(0, -1);
+        }
         if (clusters && round == 0) pending = clusters->initial(progress);
         refineLinks(state, std::move(pending), progress);
         stopIfCancelled(runner);
@@ -76,6 +150,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         if (clusters) groupClusterLinksByReceiver(s);
         stopIfCancelled(runner);
         progress.beginPhase("solve" + suffix);
+        timeline.solve(round, -1);
         result = solveHierarchy(s, runner, SolveStart::Emission, options.iteration_tolerance, options.max_iterations,
                                 &row_sums, &progress);
         stopIfCancelled(runner);
@@ -95,6 +170,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
             bool changed = false;
             const std::string deferred_name = pass == 0 ? " (deferred)" : " (deferred " + std::to_string(pass + 1) + ")";
             progress.beginPhase("links" + suffix + deferred_name);
+            timeline.links(round, pass);
             std::vector<PendingLink> deferred = clusters->reopen(progress, changed, true);
             if (!changed) break;
             refineLinks(state, std::move(deferred), progress);
@@ -102,6 +178,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
             groupLinksByReceiver(s, &state.records);
             groupClusterLinksByReceiver(s);
             progress.beginPhase("solve" + suffix + deferred_name);
+            timeline.solve(round, pass);
             result = solveHierarchy(s, runner, SolveStart::Current, options.iteration_tolerance, options.max_iterations,
                                     &row_sums, &progress);
             s.stats.iterations += result.iterations;
@@ -110,6 +187,7 @@ void solveRounds(const Scene& scene, const PartSet& parts, const SolverOptions& 
         if (round + 1 == rounds) break;
         // Reopening is the next round's linking (the clusters' part of it most of all).
         progress.beginPhase("links " + std::to_string(round + 2));
+        timeline.links(round + 1, -1);
         state.updateThresholds();
         pending = reopenLinks(state);
         bool clusters_changed = false;

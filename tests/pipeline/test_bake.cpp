@@ -201,6 +201,28 @@ TEST_CASE("the progress sink sees every phase begin and end, fractions within [0
     CHECK(begun == expected);
 }
 
+TEST_CASE("the solve's phases report its fraction and time left: in [0, 1], never falling back, only there") {
+    Progress progress(false);
+    bool ok = true, known = false;
+    double last = 0.0;
+    std::vector<std::string> outside;  // phases that reported a stage without being the solve's
+    progress.setSink([&](const ProgressEvent& event) {
+        const bool readout = event.phase == "vertices" || event.phase == "lightmaps" || event.phase == "probes";
+        if (readout != event.stage.empty()) outside.emplace_back(event.phase);
+        if (event.stage.empty()) return;
+        if (!(event.stage_fraction >= last && event.stage_fraction <= 1.0 && event.stage_seconds_left >= 0.0))
+            MESSAGE(std::string(event.phase), " ", event.stage_fraction, " after ", last, " left ", event.stage_seconds_left);
+        ok = ok && event.stage_fraction >= last && event.stage_fraction <= 1.0 && event.stage_seconds_left >= 0.0;
+        last = event.stage_fraction;
+        known = known || event.stage_fraction > 0.0;
+    });
+    Diagnostics diagnostics;
+    REQUIRE(bake(litRoom(), draftOptions(2), progress, diagnostics).ok());
+    CHECK(ok);
+    CHECK(known);  // from the first links phase on (the solver said what follows)
+    CHECK(outside.empty());
+}
+
 TEST_CASE("writeBake writes every output of an Ok bake, and nothing for a failed one") {
     const Bake good = bakeQuietly(litRoom(), draftOptions(2));
     REQUIRE(good.ok());
