@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -288,6 +289,33 @@ TEST_CASE("a scene with no emitter and no light bakes black, with a warning that
     const RunResult lit = runRadbake("bake " + quote(tmp.path / "lit.wrl") + " -q --quality draft -o " + quote(tmp.path / "out2"));
     CHECK(lit.exit_code == 0);
     CHECK(lit.output.find("no emissive surface") == std::string::npos);
+}
+
+TEST_CASE("a solve's log lines end with the whole solve's fraction and time left, as tools/progress_check.py reads them") {
+    const TempDir tmp;
+    const std::string scene = quote(fs::path(RADBAKE_SOURCE_DIR) / "scenes" / "cornell_box.wrl");
+    const RunResult logged = runRadbake("bake " + scene + " -o " + quote(tmp.path / "a"));
+    INFO(logged.output);
+    REQUIRE(logged.exit_code == 0);
+    // "radbake: PHASE ...; the solve N %, about T left", N never falling back, only in the solve.
+    const std::regex stage("^radbake: (.+?) (?:\\d+ %|done in).*; the solve (\\d+) %, about (.+) left$");
+    std::istringstream lines(logged.output);
+    std::string line;
+    int last = 0, with_stage = 0;
+    bool read_out = false, in_order = true, outside = false;
+    while (std::getline(lines, line)) {
+        read_out = read_out || line.rfind("radbake: vertices", 0) == 0;
+        std::smatch m;
+        if (!std::regex_match(line, m, stage)) continue;
+        ++with_stage;
+        const int percent = std::stoi(m[2].str());
+        in_order = in_order && percent >= last && percent <= 100;
+        last = percent;
+        outside = outside || read_out;
+    }
+    CHECK(with_stage >= 3);  // the first links phase on
+    CHECK(in_order);
+    CHECK_FALSE(outside);    // the read-out's lines carry no solve estimate
 }
 
 TEST_CASE("a log gets progress as plain lines, one at each phase's end; --quiet none") {
