@@ -291,15 +291,14 @@ TEST_CASE("a scene with no emitter and no light bakes black, with a warning that
     CHECK(lit.output.find("no emissive surface") == std::string::npos);
 }
 
-TEST_CASE("a solve's log lines end with the whole solve's fraction and time left, as tools/progress_check.py reads them") {
-    const TempDir tmp;
-    const std::string scene = quote(fs::path(RADBAKE_SOURCE_DIR) / "scenes" / "cornell_box.wrl");
-    const RunResult logged = runRadbake("bake " + scene + " -o " + quote(tmp.path / "a"));
-    INFO(logged.output);
-    REQUIRE(logged.exit_code == 0);
-    // "radbake: PHASE ...; the solve N %, about T left", N never falling back, only in the solve.
+namespace {
+
+// A solve's log lines end with the whole solve's fraction and time left, as
+// tools/progress_check.py reads them: "radbake: PHASE ...; the solve N %, about T left", N
+// never falling back, only in the solve's phases.
+void checkSolveEstimateLines(const std::string& output) {
     const std::regex stage("^radbake: (.+?) (?:\\d+ %|done in).*; the solve (\\d+) %, about (.+) left$");
-    std::istringstream lines(logged.output);
+    std::istringstream lines(output);
     std::string line;
     int last = 0, with_stage = 0;
     bool read_out = false, in_order = true, outside = false;
@@ -318,7 +317,9 @@ TEST_CASE("a solve's log lines end with the whole solve's fraction and time left
     CHECK_FALSE(outside);    // the read-out's lines carry no solve estimate
 }
 
-TEST_CASE("a log gets progress as plain lines, one at each phase's end; --quiet none") {
+}  // namespace
+
+TEST_CASE("a log gets progress as plain lines, one at each phase's end, the solve's with its fraction and time left; --quiet none") {
     const TempDir tmp;
     const std::string scene = quote(fs::path(RADBAKE_SOURCE_DIR) / "scenes" / "cornell_box.wrl");
     // runRadbake's stderr is a pipe, as a content build's log is.
@@ -328,6 +329,7 @@ TEST_CASE("a log gets progress as plain lines, one at each phase's end; --quiet 
     for (const char* phase : {"import", "elements", "links", "solve", "vertices", "lightmaps"})
         CHECK(logged.output.find(std::string("radbake: ") + phase + " done in ") != std::string::npos);
     CHECK(logged.output.find('\r') == std::string::npos);  // no terminal redrawing in a log
+    checkSolveEstimateLines(logged.output);
     const RunResult quiet = runRadbake("bake " + scene + " -o " + quote(tmp.path / "b") + " --quiet");
     REQUIRE(quiet.exit_code == 0);
     CHECK(quiet.output.find(" done in ") == std::string::npos);
