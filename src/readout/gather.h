@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "geometry/box.h"
 #include "geometry/polygon.h"
 #include "radiosity/elements.h"
 #include "readout/evaluate_probe.h"
@@ -323,35 +324,41 @@ struct Gatherer {
         sum += f * visible * e.radiosity;
     }
 
-    // Every root, the faintest read with one ray each (ReadoutOptions::probe_faint_share).
-    // Roots are gathered brightest first by a bound on their unoccluded light (form factor
-    // times brightest leaf); once the bounds of those left sum to at most `faint_share` of the
-    // light gathered so far, each of them takes one ray at its centre instead of the coarse
-    // rule's pieces, which moves the point by at most that share of its light. Seen from a
-    // point among furniture most roots are far, small and hidden: most of the exhaustive
-    // gather's rays went to light it cannot see.
+    // Every root (or only `sources`, ascending root indices, when given), the faintest read with
+    // one ray each (ReadoutOptions::probe_faint_share). Roots are gathered brightest first by a
+    // bound on their unoccluded light (form factor times brightest leaf); once the bounds of
+    // those left sum to at most `faint_share` of the light gathered so far, each of them takes
+    // one ray at its centre instead of the coarse rule's pieces, which moves the point by at most
+    // that share of its light. Seen from a point among furniture most roots are far, small and
+    // hidden: most of the exhaustive gather's rays went to light it cannot see.
     struct RootLight {
         uint32_t root = 0;
         double form_factor = 0.0;
         double bound = 0.0;  // form_factor x the brightest leaf's radiosity (max channel)
     };
     std::vector<RootLight> root_light{};
-    void visitRoots(double faint_share) {
+    void visitRoots(double faint_share, const std::vector<uint32_t>* sources = nullptr) {
+        const auto forEachRoot = [&](auto&& f) {
+            if (!sources)
+                for (uint32_t r = 0; r < s.root_count; ++r) f(r);
+            else
+                for (const uint32_t r : *sources) f(r);
+        };
         if (!use_rays || !(faint_share > 0.0)) {
-            for (uint32_t r = 0; r < s.root_count; ++r) visit(r);
+            forEachRoot([&](uint32_t r) { visit(r); });
             return;
         }
         root_light.clear();
         double left = 0.0;
-        for (uint32_t r = 0; r < s.root_count; ++r) {
+        forEachRoot([&](uint32_t r) {
             const Element& e = s.elements[r];
-            if (!(maxChannel(e.radiosity) > 0.0) || !facesPoint(e)) continue;
+            if (!(maxChannel(e.radiosity) > 0.0) || !facesPoint(e)) return;
             const double f = pointPolygonFormFactor(point, normal, polygonOf(s, e).vertices, e.normal);
             if (counters) ++counters->form_factors;
-            if (!(f > 0.0)) continue;
+            if (!(f > 0.0)) return;
             root_light.push_back({r, f, f * brightestLeaf(r)});
             left += root_light.back().bound;
-        }
+        });
         std::sort(root_light.begin(), root_light.end(), [](const RootLight& a, const RootLight& b) {
             return a.bound > b.bound || (a.bound == b.bound && a.root < b.root);
         });
@@ -387,6 +394,37 @@ struct Gatherer {
     }
 };
 
+// Calls f(root) for every root whose polygon may lie within `reach` of `p`, in root order: down
+// the cluster tree's boxes when the solution has one (a point's lift looked at every root, which
+// in a building of half a million roots cost more than the point's own gather), else every root.
+template <class F>
+inline void forRootsNear(const Solution& s, const DVec3& p, double reach, F&& f) {
+    if (s.clusters.empty() || s.clusters[0].member_count != s.root_count) {
+        for (uint32_t r = 0; r < s.root_count; ++r) f(r);
+        return;
+    }
+    thread_local std::vector<uint32_t> found, stack;
+    found.clear();
+    stack.assign(1, 0);
+    while (!stack.empty()) {
+        const Cluster& c = s.clusters[stack.back()];
+        stack.pop_back();
+        if (!contains(c.box, p, reach)) continue;
+        if (c.isLeaf()) {
+            for (uint32_t k = 0; k < c.member_count; ++k) {
+                const uint32_t r = s.cluster_members[c.first_member + k];
+                const Element& e = s.elements[r];
+                if (glm::length(e.centroid - p) <= e.radius + reach) found.push_back(r);
+            }
+        } else {
+            stack.push_back(c.first_child);
+            stack.push_back(c.first_child + 1);
+        }
+    }
+    std::sort(found.begin(), found.end());
+    for (const uint32_t r : found) f(r);
+}
+
 // A point on a surface (a vertex) lies in the planes of the polygons around it, where the
 // point form factor is degenerate (a wall seen edge-on from the edge of the floor gives
 // nothing instead of half the sky). The point is moved a lift off every root polygon it
@@ -406,8 +444,9 @@ inline void addLiftDirection(const Solution& solution, uint32_t root, const DVec
 // that face's front is seen.
 inline DVec3 liftOffSurfaces(const Solution& solution, const DVec3& point, const DVec3& normal, double lift) {
     DVec3 direction(0.0);
-    for (uint32_t r = 0; r < solution.root_count; ++r)
+    forRootsNear(solution, point, 2.0 * lift, [&](uint32_t r) {
         if (glm::dot(solution.elements[r].normal, normal) >= -0.99) addLiftDirection(solution, r, point, lift, direction);
+    });
     return point + lift * direction;
 }
 
@@ -490,16 +529,16 @@ inline DVec3 intoPolygon(const Mesh& mesh, uint32_t t, const DVec3& normal, cons
 inline DVec3 liftOffFacingSurfaces(const Solution& solution, const DVec3& point, const DVec3& normal, double lift,
                                    const std::array<DVec3, 3>& face) {
     DVec3 direction(0.0);
-    for (uint32_t r = 0; r < solution.root_count; ++r) {
+    forRootsNear(solution, point, 2.0 * lift, [&](uint32_t r) {
         const Element& e = solution.elements[r];
         const DVec3& origin = polygonOf(solution, e).vertices[0];
         // Its own plane (the face and its neighbours there), as liftOffSurfaces lifts it.
         const bool own_plane = glm::dot(e.normal, normal) > 1.0 - 1e-6;
         if (!own_plane &&
             std::none_of(face.begin(), face.end(), [&](const DVec3& v) { return glm::dot(e.normal, v - origin) > lift; }))
-            continue;
+            return;
         addLiftDirection(solution, r, point, lift, direction);
-    }
+    });
     return point + lift * direction;
 }
 

@@ -398,8 +398,18 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
 }
 
 DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
-                                               const DVec3& normal) const {
+                                               const DVec3& normal, std::span<const uint32_t> roots) const {
     ProbeCounters c;
+    // The union of the roots' sources: a point on a corner of several roots sees what each does.
+    thread_local std::vector<uint32_t> sources;
+    sources.clear();
+    for (const uint32_t root : roots) {
+        const std::vector<uint32_t>& of = sourcesOf(root);
+        sources.insert(sources.end(), of.begin(), of.end());
+    }
+    std::sort(sources.begin(), sources.end());
+    sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+    const std::vector<uint32_t>* only = roots.empty() ? nullptr : &sources;
     // The sky as every other vertex takes it, from the corners of a leaf of its face at the point
     // (the solve read it there from inside the face), not by a quadrature of its own.
     const bool sky = s_.scene && s_.scene->sky.shines();
@@ -408,12 +418,65 @@ DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, uint32_t triangle,
     if (leaf != kNoElement) {
         ReadoutOptions without_sky = o_;
         without_sky.sky.grid = 0;
-        h = surfaceIrradiance(s_, without_sky, p_world, normal, mesh, triangle, &c) + skyInElement(s_, leaf, p_world);
+        h = surfaceIrradiance(s_, without_sky, p_world, normal, mesh, triangle, &c, only) +
+            skyInElement(s_, leaf, p_world);
     } else {
-        h = surfaceIrradiance(s_, o_, p_world, normal, mesh, triangle, &c);
+        h = surfaceIrradiance(s_, o_, p_world, normal, mesh, triangle, &c, only);
     }
     tally(c, 1);
     return h;
+}
+
+const std::vector<uint32_t>& LinkReconstruction::sourcesOf(uint32_t root) const {
+    struct Entry {
+        uint64_t owner = 0;
+        uint32_t root = 0xffffffffu;
+        std::vector<uint32_t> sources;
+    };
+    thread_local std::array<Entry, kCachedRoots> cache;
+    thread_local size_t next = 0;
+    for (const Entry& entry : cache)
+        if (entry.owner == id_ && entry.root == root) return entry.sources;
+    Entry& cached = cache[next];
+    next = (next + 1) % kCachedRoots;
+    cached.owner = id_;
+    cached.root = root;
+    std::vector<uint32_t>& out = cached.sources;
+    out.clear();
+    const Solution& s = s_;
+    // The links of every element of the root (gatherLinks' rule: a shaft's proof of occlusion
+    // drops a link, a blocked sample of rays does not).
+    thread_local std::vector<uint32_t> stack;
+    stack.assign(1, root);
+    while (!stack.empty()) {
+        const Element& e = s.elements[stack.back()];
+        const size_t index = stack.back();
+        stack.pop_back();
+        for (size_t l = link_begin_[index]; l < link_begin_[index + 1]; ++l) {
+            const Link& link = s.links[l];
+            if (link.visibility > 0.0f || link.by_rays) out.push_back(s.elements[link.source].root);
+        }
+        for (uint32_t c = 0; c < e.child_count; ++c) stack.push_back(e.first_child + c);
+    }
+    if (!cluster_begin_.empty()) {
+        for (const RootPair& pair : pairsOf(root).lit) out.push_back(pair.member);
+        const auto separable = [&](uint32_t node) {
+            const size_t key = keyOf(s, node);
+            for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
+                const ClusterLink& link = s.cluster_links[l];
+                if (!(link.visibility > 0.0f) || link.kernel != kNoKernel) continue;
+                const NodeMembers sm = membersOf(s, link.source);
+                out.insert(out.end(), s.cluster_members.begin() + sm.first,
+                           s.cluster_members.begin() + sm.first + sm.count);
+            }
+        };
+        separable(root);
+        for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent)
+            separable(c | kClusterNode);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 DVec3 LinkReconstruction::irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
