@@ -4,6 +4,7 @@
 // whether rays sampled it), then the point's irradiance from the link reconstruction and from
 // the exhaustive gather.
 //   explain_point SCENE MESH X Y Z NX NY NZ [--quality medium] [--threads 0]
+// MESH -1: the mesh whose triangle facing the normal is nearest to the point.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::string path = argv[1];
-    const uint32_t mesh_index = static_cast<uint32_t>(std::atoi(argv[2]));
+    uint32_t mesh_index = static_cast<uint32_t>(std::atoi(argv[2]));
     const DVec3 p(std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]));
     const DVec3 n = glm::normalize(DVec3(std::atof(argv[6]), std::atof(argv[7]), std::atof(argv[8])));
     std::string quality = "medium";
@@ -47,7 +48,25 @@ int main(int argc, char** argv) {
         if (d.severity == Severity::Error) std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str());
     };
     const auto scene = importScene(path, ImportOptions{}, diagnostics);
-    if (!scene || mesh_index >= scene->meshes.size()) return 1;
+    if (!scene) return 1;
+    if (std::atoi(argv[2]) < 0) {
+        double nearest = INFINITY;
+        for (uint32_t m = 0; m < scene->meshes.size(); ++m) {
+            const Mesh& mesh = scene->meshes[m];
+            for (const UVec3& t : mesh.triangles) {
+                const DVec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
+                const DVec3 cr = glm::cross(b - a, c - a);
+                if (!(glm::length(cr) > 0.0) || glm::dot(glm::normalize(cr), n) < 0.99) continue;
+                const DVec3 corners[3] = {a, b, c};
+                PolygonView tri;
+                tri.vertices = corners;
+                tri.normal = glm::normalize(cr);
+                const double d = pointPolygonDistance(p, tri);
+                if (d < nearest) nearest = d, mesh_index = m;
+            }
+        }
+    }
+    if (mesh_index >= scene->meshes.size()) return 1;
     const Quality q = qualityNamed(quality);
     const BakeOptions preset = BakeOptions::forQuality(q);
     Progress progress(false);

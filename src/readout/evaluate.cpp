@@ -48,7 +48,7 @@ namespace {
 
 DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DVec3& point_on_surface,
                const DVec3& normal, ProbeCounters* counters, uint32_t receiver_mesh,
-               uint32_t receiver_triangle = kNoElement, const std::vector<uint32_t>* sources = nullptr) {
+               uint32_t receiver_triangle = kNoElement) {
     if (solution.elements.empty()) return DVec3(0.0);
     const double lift = gather::kLift * solution.scene_extent;
     const Scene* scene = solution.scene;
@@ -71,7 +71,7 @@ DVec3 evaluate(const Solution& solution, const ReadoutOptions& options, const DV
                .lift = lift,
                .counters = counters,
                .use_rays = solution.rays != nullptr};
-    g.visitRoots(options.probe_faint_share, sources);
+    g.visitRoots(options.probe_faint_share);
     return g.sum +
            gather::punctualInside(solution, receiver_mesh, receiver_triangle, point_on_surface, normal,
                                   options.sky.grid > 0 ? &options.sky : nullptr);
@@ -90,9 +90,8 @@ DVec3 probeIrradianceCounted(const Solution& solution, const ReadoutOptions& opt
 }
 
 DVec3 surfaceIrradiance(const Solution& solution, const ReadoutOptions& options, const DVec3& point, const DVec3& normal,
-                        uint32_t mesh, uint32_t triangle, ProbeCounters* counters,
-                        const std::vector<uint32_t>* sources) {
-    return evaluate(solution, options, point, normal, counters, mesh, triangle, sources);
+                        uint32_t mesh, uint32_t triangle, ProbeCounters* counters) {
+    return evaluate(solution, options, point, normal, counters, mesh, triangle);
 }
 
 }  // namespace radbake

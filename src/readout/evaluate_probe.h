@@ -5,7 +5,6 @@
 #include <array>
 #include <cstddef>
 #include <span>
-#include <vector>
 
 #include "radiosity/solution.h"
 #include "readout/readout_options.h"
@@ -55,12 +54,9 @@ DVec3 probeIrradianceCounted(const Solution& solution, const ReadoutOptions& opt
 
 // The same gather at a point of triangle `triangle` of Scene::meshes[mesh] (a vertex, a texel's
 // point), whose punctual lights are read from just inside that triangle (gather.h,
-// punctualInside): its value is the limit from inside its face. `sources` (ascending root
-// indices): only those roots are gathered from (LinkReconstruction::sourcesOf: the roots whose
-// links can bring light to the point's roots); null: every root.
+// punctualInside): its value is the limit from inside its face.
 DVec3 surfaceIrradiance(const Solution& solution, const ReadoutOptions& options, const DVec3& point, const DVec3& normal,
-                        uint32_t mesh, uint32_t triangle, ProbeCounters* counters = nullptr,
-                        const std::vector<uint32_t>* sources = nullptr);
+                        uint32_t mesh, uint32_t triangle, ProbeCounters* counters = nullptr);
 
 // Pieces of probeIrradiance, exposed for tests.
 

@@ -324,41 +324,35 @@ struct Gatherer {
         sum += f * visible * e.radiosity;
     }
 
-    // Every root (or only `sources`, ascending root indices, when given), the faintest read with
-    // one ray each (ReadoutOptions::probe_faint_share). Roots are gathered brightest first by a
-    // bound on their unoccluded light (form factor times brightest leaf); once the bounds of
-    // those left sum to at most `faint_share` of the light gathered so far, each of them takes
-    // one ray at its centre instead of the coarse rule's pieces, which moves the point by at most
-    // that share of its light. Seen from a point among furniture most roots are far, small and
-    // hidden: most of the exhaustive gather's rays went to light it cannot see.
+    // Every root, the faintest read with one ray each (ReadoutOptions::probe_faint_share).
+    // Roots are gathered brightest first by a bound on their unoccluded light (form factor
+    // times brightest leaf); once the bounds of those left sum to at most `faint_share` of the
+    // light gathered so far, each of them takes one ray at its centre instead of the coarse
+    // rule's pieces, which moves the point by at most that share of its light. Seen from a
+    // point among furniture most roots are far, small and hidden: most of the exhaustive
+    // gather's rays went to light it cannot see.
     struct RootLight {
         uint32_t root = 0;
         double form_factor = 0.0;
         double bound = 0.0;  // form_factor x the brightest leaf's radiosity (max channel)
     };
     std::vector<RootLight> root_light{};
-    void visitRoots(double faint_share, const std::vector<uint32_t>* sources = nullptr) {
-        const auto forEachRoot = [&](auto&& f) {
-            if (!sources)
-                for (uint32_t r = 0; r < s.root_count; ++r) f(r);
-            else
-                for (const uint32_t r : *sources) f(r);
-        };
+    void visitRoots(double faint_share) {
         if (!use_rays || !(faint_share > 0.0)) {
-            forEachRoot([&](uint32_t r) { visit(r); });
+            for (uint32_t r = 0; r < s.root_count; ++r) visit(r);
             return;
         }
         root_light.clear();
         double left = 0.0;
-        forEachRoot([&](uint32_t r) {
+        for (uint32_t r = 0; r < s.root_count; ++r) {
             const Element& e = s.elements[r];
-            if (!(maxChannel(e.radiosity) > 0.0) || !facesPoint(e)) return;
+            if (!(maxChannel(e.radiosity) > 0.0) || !facesPoint(e)) continue;
             const double f = pointPolygonFormFactor(point, normal, polygonOf(s, e).vertices, e.normal);
             if (counters) ++counters->form_factors;
-            if (!(f > 0.0)) return;
+            if (!(f > 0.0)) continue;
             root_light.push_back({r, f, f * brightestLeaf(r)});
             left += root_light.back().bound;
-        });
+        }
         std::sort(root_light.begin(), root_light.end(), [](const RootLight& a, const RootLight& b) {
             return a.bound > b.bound || (a.bound == b.bound && a.root < b.root);
         });

@@ -398,18 +398,8 @@ DVec3 LinkReconstruction::evaluate(uint32_t mesh, uint32_t triangle, const DVec3
 }
 
 DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
-                                               const DVec3& normal, std::span<const uint32_t> roots) const {
+                                               const DVec3& normal) const {
     ProbeCounters c;
-    // The union of the roots' sources: a point on a corner of several roots sees what each does.
-    thread_local std::vector<uint32_t> sources;
-    sources.clear();
-    for (const uint32_t root : roots) {
-        const std::vector<uint32_t>& of = sourcesOf(root);
-        sources.insert(sources.end(), of.begin(), of.end());
-    }
-    std::sort(sources.begin(), sources.end());
-    sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
-    const std::vector<uint32_t>* only = roots.empty() ? nullptr : &sources;
     // The sky as every other vertex takes it, from the corners of a leaf of its face at the point
     // (the solve read it there from inside the face), not by a quadrature of its own.
     const bool sky = s_.scene && s_.scene->sky.shines();
@@ -418,65 +408,12 @@ DVec3 LinkReconstruction::irradianceExhaustive(uint32_t mesh, uint32_t triangle,
     if (leaf != kNoElement) {
         ReadoutOptions without_sky = o_;
         without_sky.sky.grid = 0;
-        h = surfaceIrradiance(s_, without_sky, p_world, normal, mesh, triangle, &c, only) +
-            skyInElement(s_, leaf, p_world);
+        h = surfaceIrradiance(s_, without_sky, p_world, normal, mesh, triangle, &c) + skyInElement(s_, leaf, p_world);
     } else {
-        h = surfaceIrradiance(s_, o_, p_world, normal, mesh, triangle, &c, only);
+        h = surfaceIrradiance(s_, o_, p_world, normal, mesh, triangle, &c);
     }
     tally(c, 1);
     return h;
-}
-
-const std::vector<uint32_t>& LinkReconstruction::sourcesOf(uint32_t root) const {
-    struct Entry {
-        uint64_t owner = 0;
-        uint32_t root = 0xffffffffu;
-        std::vector<uint32_t> sources;
-    };
-    thread_local std::array<Entry, kCachedRoots> cache;
-    thread_local size_t next = 0;
-    for (const Entry& entry : cache)
-        if (entry.owner == id_ && entry.root == root) return entry.sources;
-    Entry& cached = cache[next];
-    next = (next + 1) % kCachedRoots;
-    cached.owner = id_;
-    cached.root = root;
-    std::vector<uint32_t>& out = cached.sources;
-    out.clear();
-    const Solution& s = s_;
-    // The links of every element of the root (gatherLinks' rule: a shaft's proof of occlusion
-    // drops a link, a blocked sample of rays does not).
-    thread_local std::vector<uint32_t> stack;
-    stack.assign(1, root);
-    while (!stack.empty()) {
-        const Element& e = s.elements[stack.back()];
-        const size_t index = stack.back();
-        stack.pop_back();
-        for (size_t l = link_begin_[index]; l < link_begin_[index + 1]; ++l) {
-            const Link& link = s.links[l];
-            if (link.visibility > 0.0f || link.by_rays) out.push_back(s.elements[link.source].root);
-        }
-        for (uint32_t c = 0; c < e.child_count; ++c) stack.push_back(e.first_child + c);
-    }
-    if (!cluster_begin_.empty()) {
-        for (const RootPair& pair : pairsOf(root).lit) out.push_back(pair.member);
-        const auto separable = [&](uint32_t node) {
-            const size_t key = keyOf(s, node);
-            for (size_t l = cluster_begin_[key]; l < cluster_begin_[key + 1]; ++l) {
-                const ClusterLink& link = s.cluster_links[l];
-                if (!(link.visibility > 0.0f) || link.kernel != kNoKernel) continue;
-                const NodeMembers sm = membersOf(s, link.source);
-                out.insert(out.end(), s.cluster_members.begin() + sm.first,
-                           s.cluster_members.begin() + sm.first + sm.count);
-            }
-        };
-        separable(root);
-        for (uint32_t c = s.root_leaf_cluster[root]; c != kNoElement; c = s.clusters[c].parent)
-            separable(c | kClusterNode);
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
 }
 
 DVec3 LinkReconstruction::irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world,
@@ -758,7 +695,9 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
                        .coarse_rule = false,
                        .link_visibility_ratio = kLinkVisibilityRatio,
                        .max_visibility_splits = kLinkVisibilitySplits};
-    std::vector<PendingSource> pending;
+    // Reused by the thread's reads (the edge correction's nested reads come after their last use).
+    thread_local std::vector<PendingSource> pending;
+    pending.clear();
     DVec3 separable(0.0);
     gatherLinks(leaf, g, pending, separable);
     // Rays only where they can matter: sources by decreasing unoccluded light get their
@@ -780,16 +719,22 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     // Sources by decreasing unoccluded light (ties by index) from a heap, while rays are worth
     // casting; once they are not, they never are again (what is pending only falls, what is
     // found only grows), and every source left keeps its fallback, summed in index order.
-    const auto lighter = [&](uint32_t a, uint32_t b) {
-        return pending[a].light != pending[b].light ? pending[a].light < pending[b].light : a > b;
+    // The heap holds each source's light beside its index: comparing through `pending` cost a
+    // cache miss a step.
+    struct Ranked {
+        double light;
+        uint32_t k;
     };
-    std::vector<uint32_t> heap(pending.size());
-    for (uint32_t k = 0; k < heap.size(); ++k) heap[k] = k;
+    const auto lighter = [](const Ranked& a, const Ranked& b) { return a.light != b.light ? a.light < b.light : a.k > b.k; };
+    thread_local std::vector<Ranked> heap;
+    heap.resize(pending.size());
+    for (uint32_t k = 0; k < heap.size(); ++k) heap[k] = {pending[k].light, k};
     std::make_heap(heap.begin(), heap.end(), lighter);
-    std::vector<char> read(pending.size(), 0);
+    thread_local std::vector<char> read;
+    read.assign(pending.size(), 0);
     for (auto end = heap.end(); end != heap.begin() && pending_light > kRayShare * maxChannel(g.sum + separable);) {
         std::pop_heap(heap.begin(), end, lighter);
-        const uint32_t k = *--end;
+        const uint32_t k = (--end)->k;
         read[k] = 1;
         const PendingSource& p = pending[k];
         g.use_rays = true;

@@ -71,15 +71,7 @@ public:
     };
     DVec3 irradianceUncorrected(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     // surfaceIrradiance (the exhaustive gather at a point of that triangle), counted in work().
-    // With `roots` (the roots of the faces the point lies on), only from the roots whose links
-    // can light one of them (sourcesOf); empty: from every root.
-    DVec3 irradianceExhaustive(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal,
-                               std::span<const uint32_t> roots = {}) const;
-    // The roots whose light can reach some point of `root` through the solution's links, in root
-    // order: the sources of the links of its elements that no shaft proved blocked, the members of
-    // its cluster pairs that can face it, and the members of the far clusters its separable links
-    // found visible. Whatever the solve brought to the root came from these.
-    const std::vector<uint32_t>& sourcesOf(uint32_t root) const;
+    DVec3 irradianceExhaustive(uint32_t mesh, uint32_t triangle, const DVec3& p_world, const DVec3& normal) const;
     // The correction is linear in what each face beside gets at the point: per face,
     // sum over its touching leaves of w (B_mean - E - rho H_beside). Kept in that form, a
     // caller that knows every face's H at the point (the vertex bake) can solve their mutual

@@ -88,12 +88,7 @@ DVec3 irradianceAt(const Solution& solution, const LinkReconstruction& links, co
     }
     if (count < 2 || !(hi > 0.0) || lo >= kUnequalLeaves * hi)
         return links.irradianceUncorrected(group.mesh, group.triangle, point.p, group.normal);
-    // Only from what the solve's links bring to the faces' roots: the rest of the scene (the far
-    // rooms of a building) cannot light the point, and gathering it cost O(roots) a vertex.
-    std::array<uint32_t, 16> roots{};
-    for (size_t k = 0; k < count; ++k) roots[k] = solution.elements[leaves[k]].root;
-    return links.irradianceExhaustive(group.mesh, group.triangle, point.p, group.normal,
-                                      std::span<const uint32_t>(roots.data(), count));
+    return links.irradianceExhaustive(group.mesh, group.triangle, point.p, group.normal);
 }
 
 // The direction into the group's faces at the point: the mean of the unit directions to its
