@@ -47,8 +47,9 @@ int main(int argc, char** argv) {
     diagnostics.sink = [](const Diagnostic& d) {
         if (d.severity == Severity::Error) std::fprintf(stderr, "%s\n", formatDiagnostic(d).c_str());
     };
-    const auto scene = importScene(path, ImportOptions{}, diagnostics);
+    auto scene = importScene(path, ImportOptions{}, diagnostics);
     if (!scene) return 1;
+    addBackTwins(*scene);  // as bake() does: both sides of two-sided meshes take part
     if (std::atoi(argv[2]) < 0) {
         double nearest = INFINITY;
         for (uint32_t m = 0; m < scene->meshes.size(); ++m) {

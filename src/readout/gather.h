@@ -324,52 +324,118 @@ struct Gatherer {
         sum += f * visible * e.radiosity;
     }
 
-    // Every root, the faintest read with one ray each (ReadoutOptions::probe_faint_share).
+    // Every root, the faintest read by a few rays among them (ReadoutOptions::probe_faint_share).
     // Roots are gathered brightest first by a bound on their unoccluded light (form factor
     // times brightest leaf); once the bounds of those left sum to at most `faint_share` of the
-    // light gathered so far, each of them takes one ray at its centre instead of the coarse
-    // rule's pieces, which moves the point by at most that share of its light. Seen from a
-    // point among furniture most roots are far, small and hidden: most of the exhaustive
-    // gather's rays went to light it cannot see.
+    // light gathered so far, the rest (the faint tail) is estimated from at most
+    // kFaintTailRays of them, one ray at the centre of each, which moves the point by at most
+    // that share of its light. Seen from a point among furniture most roots are far, small and
+    // hidden, and in a building most of them are in other rooms: a ray each for the tail was
+    // O(roots) rays a point.
     struct RootLight {
         uint32_t root = 0;
-        double form_factor = 0.0;
-        double bound = 0.0;  // form_factor x the brightest leaf's radiosity (max channel)
+        double form_factor = 0.0;  // exact, or the far-field kernel (far_field)
+        double bound = 0.0;        // form_factor x the brightest leaf's radiosity (max channel)
+        bool far_field = false;
+        bool visited = false;
+    };
+    struct Ranked {
+        double bound;
+        uint32_t k;  // into root_light
     };
     std::vector<RootLight> root_light{};
+    std::vector<Ranked> ranked{};
     void visitRoots(double faint_share) {
         if (!use_rays || !(faint_share > 0.0)) {
             for (uint32_t r = 0; r < s.root_count; ++r) visit(r);
             return;
         }
         root_light.clear();
+        ranked.clear();
         double left = 0.0;
         for (uint32_t r = 0; r < s.root_count; ++r) {
             const Element& e = s.elements[r];
             if (!(maxChannel(e.radiosity) > 0.0) || !facesPoint(e)) continue;
-            const double f = pointPolygonFormFactor(point, normal, polygonOf(s, e).vertices, e.normal);
-            if (counters) ++counters->form_factors;
+            double f = farFieldFormFactor(e);
+            const bool far_field = f >= 0.0;
+            if (!far_field) {
+                f = pointPolygonFormFactor(point, normal, polygonOf(s, e).vertices, e.normal);
+                if (counters) ++counters->form_factors;
+            }
             if (!(f > 0.0)) continue;
-            root_light.push_back({r, f, f * brightestLeaf(r)});
-            left += root_light.back().bound;
+            ranked.push_back({f * brightestLeaf(r), static_cast<uint32_t>(root_light.size())});
+            root_light.push_back({r, f, ranked.back().bound, far_field});
+            left += ranked.back().bound;
         }
-        std::sort(root_light.begin(), root_light.end(), [](const RootLight& a, const RootLight& b) {
-            return a.bound > b.bound || (a.bound == b.bound && a.root < b.root);
-        });
-        size_t k = 0;
-        for (; k < root_light.size() && left > faint_share * maxChannel(sum); ++k) {
-            left -= root_light[k].bound;
-            known_form_factor = root_light[k].form_factor;
-            visit(root_light[k].root);
+        // Brightest first (ties by root) from a heap: most points stop after a few hundred roots.
+        const auto dimmer = [&](const Ranked& a, const Ranked& b) {
+            return a.bound != b.bound ? a.bound < b.bound : root_light[a.k].root > root_light[b.k].root;
+        };
+        std::make_heap(ranked.begin(), ranked.end(), dimmer);
+        for (auto end = ranked.end(); end != ranked.begin() && left > faint_share * maxChannel(sum);) {
+            std::pop_heap(ranked.begin(), end, dimmer);
+            RootLight& light = root_light[(--end)->k];
+            left -= light.bound;
+            light.visited = true;
+            known_form_factor = light.far_field ? -1.0 : light.form_factor;
+            visit(light.root);
         }
-        for (; k < root_light.size(); ++k) {
-            const Element& e = s.elements[root_light[k].root];
-            int open = 0, total = 0;
+        gatherFaintTail();
+    }
+    // The roots not visited, in root order: each one's light f V B with V from one ray at its
+    // centre, or, when there are more than kFaintTailRays, that many of them chosen in
+    // proportion to their bounds (systematic sampling along root order, which runs mostly
+    // through the scene's meshes in turn), each standing for a step of the tail's bound.
+    static constexpr size_t kFaintTailRays = 64;
+    void gatherFaintTail() {
+        size_t count = 0;
+        double total = 0.0;
+        for (const RootLight& light : root_light)
+            if (!light.visited) ++count, total += light.bound;
+        if (count == 0 || !(total > 0.0)) return;
+        const auto centreRay = [&](const Element& e) {
+            int open = 0, rays = 0;
             double visible = 0.0;
-            castVisibility(polygonOf(s, e).vertices, e.normal, open, total, visible, 1);
+            castVisibility(polygonOf(s, e).vertices, e.normal, open, rays, visible, 1);
             if (counters) ++counters->pieces;
-            sum += root_light[k].form_factor * visible * e.radiosity;
+            return visible;
+        };
+        if (count <= kFaintTailRays) {
+            for (const RootLight& light : root_light) {
+                if (light.visited) continue;
+                const Element& e = s.elements[light.root];
+                sum += light.form_factor * centreRay(e) * e.radiosity;
+            }
+            return;
         }
+        const double step = total / static_cast<double>(kFaintTailRays);
+        double next = 0.5 * step, before = 0.0;
+        for (const RootLight& light : root_light) {
+            if (light.visited) continue;
+            const double after = before + light.bound;
+            size_t samples = 0;
+            for (; next < after; next += step) ++samples;
+            before = after;
+            if (samples == 0) continue;
+            const Element& e = s.elements[light.root];
+            // Its light f V B over its bound, times the steps of the tail's bound that landed on it.
+            sum += (static_cast<double>(samples) * step * centreRay(e) * light.form_factor / light.bound) * e.radiosity;
+        }
+    }
+    // The point-to-centroid kernel A cos cos / (pi d^2) of a root wholly above the point's
+    // horizon whose radius is below kFarBound of its distance (off by about the square of that
+    // ratio: it ranks roots and weighs the faint ones, whose error the share bounds); -1 where it
+    // does not hold, and the exact form factor is taken.
+    static constexpr double kFarBound = 0.05;
+    double farFieldFormFactor(const Element& e) const {
+        const DVec3 u = e.centroid - point;
+        const double d2 = glm::dot(u, u);
+        if (!(e.radius * e.radius < kFarBound * kFarBound * d2)) return -1.0;
+        for (const DVec3& v : polygonOf(s, e).vertices)
+            if (!(glm::dot(normal, v - point) > 0.0)) return -1.0;
+        const double cos_source = -glm::dot(e.normal, u);
+        if (!(cos_source > 0.0)) return 0.0;
+        return e.area * glm::dot(normal, u) * cos_source / (kPi * d2 * d2);
     }
     // The element's front faces the point and some of it is above the point's horizon.
     bool facesPoint(const Element& e) const {

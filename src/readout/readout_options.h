@@ -49,11 +49,12 @@ struct ReadoutOptions {
     // opens it (reconstruct.cpp, kCoarseShare). About a quarter of a texel's rays for a tenth of
     // a point of RMS against the exhaustive gather (docs/readout.md): high and reference only.
     bool probe_coarse_opening = false;
-    // The exhaustive gather (shadow and contact vertices, probes) reads its faintest roots with
-    // one ray each once their unoccluded light sums to at most this share of the light it has
-    // gathered, brightest roots first (gather.h, visitRoots): most of its rays went to far,
-    // small roots hidden from the point. Draft 3e-2, medium 1e-2, high 1e-3; 0 at reference,
-    // the gather the others are measured against.
+    // The exhaustive gather (shadow and contact vertices, probes) estimates its faintest roots
+    // from a few rays among them (at most 64, each at a sampled root's centre) once their
+    // unoccluded light sums to at most this share of the light it has gathered, brightest roots
+    // first (gather.h, visitRoots): most of its rays went to far, small roots hidden from the
+    // point. Draft 3e-2, medium 1e-2, high 1e-3; 0 at reference, the gather the others are
+    // measured against.
     double probe_faint_share = 1e-2;
     // Shared at draft (a room's edges and corners, at about draft's cost), On above: Shared
     // leaves a block's feet on a floor uncorrected (docs/results.md has the figures).
