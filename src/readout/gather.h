@@ -77,6 +77,27 @@ inline bool emitsMostOfItsLight(const Element& e) {
 inline constexpr double kGrazingKernelRatio = 1.1;
 inline constexpr double kGrazingElevation = 0.3;
 
+// Most sources a point might gather from are small and far: their form factor, which ranks them
+// and weights the light of those read without rays, is the point-to-centroid kernel
+// A cos cos / (pi d^2) when the source's radius is below this share of its distance, wholly above
+// the point's horizon and facing it (off by about the square of the ratio). Sources read with
+// rays get their exact form factor.
+inline constexpr double kFarFieldRatio = 0.05;
+
+// The far-field form factor of `source` (its polygon's `vertices`) from the point, or -1 where it
+// does not hold.
+inline double farFormFactor(const DVec3& point, const DVec3& normal, const Element& source,
+                            std::span<const DVec3> vertices) {
+    const DVec3 u = source.centroid - point;
+    const double d2 = glm::dot(u, u);
+    if (!(source.radius * source.radius < kFarFieldRatio * kFarFieldRatio * d2)) return -1.0;
+    for (const DVec3& v : vertices)
+        if (!(glm::dot(normal, v - point) > 0.0)) return -1.0;
+    const double cos_source = -glm::dot(source.normal, u);
+    if (!(cos_source > 0.0)) return 0.0;  // the point is behind it
+    return source.area * glm::dot(normal, u) * cos_source / (kPi * d2 * d2);
+}
+
 struct Gatherer {
     const Solution& s;
     const ReadoutOptions& o;
@@ -356,7 +377,7 @@ struct Gatherer {
         for (uint32_t r = 0; r < s.root_count; ++r) {
             const Element& e = s.elements[r];
             if (!(maxChannel(e.radiosity) > 0.0) || !facesPoint(e)) continue;
-            double f = farFieldFormFactor(e);
+            double f = farFormFactor(point, normal, e, polygonOf(s, e).vertices);
             const bool far_field = f >= 0.0;
             if (!far_field) {
                 f = pointPolygonFormFactor(point, normal, polygonOf(s, e).vertices, e.normal);
@@ -421,21 +442,6 @@ struct Gatherer {
             // Its light f V B over its bound, times the steps of the tail's bound that landed on it.
             sum += (static_cast<double>(samples) * step * centreRay(e) * light.form_factor / light.bound) * e.radiosity;
         }
-    }
-    // The point-to-centroid kernel A cos cos / (pi d^2) of a root wholly above the point's
-    // horizon whose radius is below kFarBound of its distance (off by about the square of that
-    // ratio: it ranks roots and weighs the faint ones, whose error the share bounds); -1 where it
-    // does not hold, and the exact form factor is taken.
-    static constexpr double kFarBound = 0.05;
-    double farFieldFormFactor(const Element& e) const {
-        const DVec3 u = e.centroid - point;
-        const double d2 = glm::dot(u, u);
-        if (!(e.radius * e.radius < kFarBound * kFarBound * d2)) return -1.0;
-        for (const DVec3& v : polygonOf(s, e).vertices)
-            if (!(glm::dot(normal, v - point) > 0.0)) return -1.0;
-        const double cos_source = -glm::dot(e.normal, u);
-        if (!(cos_source > 0.0)) return 0.0;
-        return e.area * glm::dot(normal, u) * cos_source / (kPi * d2 * d2);
     }
     // The element's front faces the point and some of it is above the point's horizon.
     bool facesPoint(const Element& e) const {

@@ -71,26 +71,6 @@ constexpr int kCornerSectors = 6;
 constexpr double kCornerAgreement = 0.05;
 constexpr int kLinkVisibilitySplits = 1;
 
-// Most sources a point might gather from are small and far, and most of those keep their link's
-// visibility (no rays at the point): their form factor, which orders them and weights their
-// light, is the point-to-centroid kernel A cos cos / (pi d^2) when the source's radius is below
-// this share of its distance, wholly above the point's horizon and facing it (off by about the
-// square of the ratio). The sources read with rays get their exact form factor.
-constexpr double kFarFieldRatio = 0.05;
-
-// The far-field form factor of `source` from the point, or -1 where it does not hold.
-double farFormFactor(const DVec3& point, const DVec3& normal, const Element& source,
-                     std::span<const DVec3> vertices) {
-    const DVec3 u = source.centroid - point;
-    const double d2 = glm::dot(u, u);
-    if (!(source.radius * source.radius < kFarFieldRatio * kFarFieldRatio * d2)) return -1.0;
-    for (const DVec3& v : vertices)
-        if (!(glm::dot(normal, v - point) > 0.0)) return -1.0;
-    const double cos_source = -glm::dot(source.normal, u);
-    if (!(cos_source > 0.0)) return 0.0;  // the point is behind it
-    return source.area * glm::dot(normal, u) * cos_source / (kPi * d2 * d2);
-}
-
 // The light of another face at the point, given by the caller, for a face of this normal.
 const LinkReconstruction::SideLight* sideLightOf(std::span<const LinkReconstruction::SideLight> side_light,
                                                  const DVec3& normal) {
@@ -311,7 +291,7 @@ void LinkReconstruction::listDeferred(std::span<const std::pair<uint32_t, double
     for (size_t k = 0; k < deferred.size(); ++k) {
         const Element& source = s.elements[deferred[k].first];
         const PolygonView poly = polygonOf(s, source);
-        f[k] = farFormFactor(g.point, g.normal, source, poly.vertices);
+        f[k] = gather::farFormFactor(g.point, g.normal, source, poly.vertices);
         if (f[k] < 0.0) exact_polygons.push_back(poly);
     }
     exact_f.resize(exact_polygons.size());
