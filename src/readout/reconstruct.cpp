@@ -699,21 +699,14 @@ DVec3 LinkReconstruction::evaluateLeaf(uint32_t leaf, const DVec3& p_world, cons
     // Sources by decreasing unoccluded light (ties by index) from a heap, while rays are worth
     // casting; once they are not, they never are again (what is pending only falls, what is
     // found only grows), and every source left keeps its fallback, summed in index order.
-    // The heap holds each source's light beside its index: comparing through `pending` cost a
-    // cache miss a step.
-    struct Ranked {
-        double light;
-        uint32_t k;
-    };
-    const auto lighter = [](const Ranked& a, const Ranked& b) { return a.light != b.light ? a.light < b.light : a.k > b.k; };
-    thread_local std::vector<Ranked> heap;
+    thread_local std::vector<gather::Ranked> heap;
     heap.resize(pending.size());
     for (uint32_t k = 0; k < heap.size(); ++k) heap[k] = {pending[k].light, k};
-    std::make_heap(heap.begin(), heap.end(), lighter);
+    std::make_heap(heap.begin(), heap.end(), gather::dimmer);
     thread_local std::vector<char> read;
     read.assign(pending.size(), 0);
     for (auto end = heap.end(); end != heap.begin() && pending_light > kRayShare * maxChannel(g.sum + separable);) {
-        std::pop_heap(heap.begin(), end, lighter);
+        std::pop_heap(heap.begin(), end, gather::dimmer);
         const uint32_t k = (--end)->k;
         read[k] = 1;
         const PendingSource& p = pending[k];

@@ -3,12 +3,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <vector>
 
 #include "geometry/polygon.h"
 #include "radiosity/elements.h"
-#include "radiosity/form_factor.h"
 #include "readout/gather.h"
 #include "../radiosity/test_scenes.h"
 
