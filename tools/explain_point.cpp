@@ -154,6 +154,27 @@ int main(int argc, char** argv) {
                 std::printf("(mesh %u, centroid %.3g %.3g %.3g, normal %.2g %.2g %.2g, B %.4g)\n", el.mesh,
                             el.centroid.x, el.centroid.y, el.centroid.z, el.normal.x, el.normal.y, el.normal.z,
                             el.radiosity.x);
+                // The cluster links that carry this root's light to the point's root.
+                const auto holds = [&](uint32_t node, uint32_t root) {
+                    if (!(node & kClusterNode)) return node == root;
+                    const Cluster& c = s.clusters[node & ~kClusterNode];
+                    const uint32_t at = s.member_position[root];
+                    return at >= c.first_member && at < c.first_member + c.member_count;
+                };
+                const auto size = [&](uint32_t node) {
+                    return node & kClusterNode ? s.clusters[node & ~kClusterNode].member_count : 1u;
+                };
+                for (const Link& link : s.links)
+                    if (s.elements[link.receiver].root == s.elements[leaf].root && s.elements[link.source].root == r)
+                        std::printf("      element link: receiver %u (centroid %.3g %.3g %.3g) <- %u, F %.4g V %.3f\n",
+                                    link.receiver, s.elements[link.receiver].centroid.x,
+                                    s.elements[link.receiver].centroid.y, s.elements[link.receiver].centroid.z,
+                                    link.source, link.form_factor, link.visibility);
+                for (const ClusterLink& cl : s.cluster_links)
+                    if (holds(cl.receiver, s.elements[leaf].root) && holds(cl.source, r))
+                        std::printf("      cluster link: %u receiver roots <- %u source roots, visibility %.3f, %s\n",
+                                    size(cl.receiver), size(cl.source), cl.visibility,
+                                    cl.kernel == kNoKernel ? "separable" : "pairwise kernel");
             }
         }
     }

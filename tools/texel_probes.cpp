@@ -24,7 +24,8 @@
 // with the texel's sample point (scene file units) and its face's normal, I the atlas column and
 // J the row (row 0 at the top), `edge` for a texel the bake evaluates whatever its tolerance
 // (chartTexelSites: partly covered or beside a texel that is not fully covered), and H the
-// atlas value times pi (W/m^2, as probes.csv and reference_mc print). Exit 2 on a bad command line.
+// bilinear lookup of the lightmap at the sample point times pi (W/m^2, as probes.csv and
+// reference_mc print): what an engine shows there. Exit 2 on a bad command line.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -43,6 +44,7 @@
 
 #include "bake/lightmap_adaptive.h"
 #include "bake/lightmap_pack.h"
+#include "bake/lightmap_seams.h"
 #include "cli/option_checks.h"
 #include "export/compare_load.h"
 #include "export/manifest.h"
@@ -185,6 +187,10 @@ size_t litOutsideCharts(const LightmapLayout& layout, const std::vector<RgbImage
 std::vector<Texel> coveredTexels(const LightmapLayout& layout, const std::vector<RgbImage>& atlases,
                                  ParallelRunner& runner, const HiddenTest& hidden, LayoutCheck& check) {
     std::vector<Texel> texels;
+    // The atlases as the bake's lookups read them (bilinearLookup).
+    std::vector<LightmapImage> images(atlases.size());
+    for (size_t k = 0; k < atlases.size(); ++k)
+        images[k] = LightmapImage{.width = atlases[k].width, .height = atlases[k].height, .rgb = atlases[k].rgb, .state = {}};
     for (const LightmapChart& chart : layout.charts) {
         if (chart.atlas < 0) continue;
         const std::vector<TexelSite> sites = chartTexelSites(chart, runner, hidden);
@@ -200,7 +206,9 @@ std::vector<Texel> coveredTexels(const LightmapLayout& layout, const std::vector
                         .normal = face.normal_world,
                         .mesh = chart.mesh,
                         .edge = site.edge};
-            texel.h = kPi * atlasValue(atlases[chart.atlas], texel.x, texel.y);
+            // What an engine shows at the sample point: the bilinear lookup there, the texel's own
+            // value only where the point is its centre.
+            texel.h = kPi * bilinearLookup(images[chart.atlas], chart.atlasTexel(site.p_plane));
             check.dark_covered += !(brightness(texel.h) > 0.0);
             texels.push_back(texel);
         }
