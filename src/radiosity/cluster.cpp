@@ -646,7 +646,11 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 any = any || k > 0.0f;
             }
             if (!any) {
-                ev.kernel.clear();
+                // Every pair's ray blocked: it carries nothing, but a link above its faint bound
+                // keeps its pairs (a zero kernel), so the read-out still casts rays from the points
+                // that see a source past what blocked the pairs' rays (a folder's side past its
+                // neighbour, a shelf's side face out of its compartment).
+                if (faint) ev.kernel.clear();
                 ev.visibility = 0.0f;
             }
             return ev;
@@ -845,9 +849,10 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                     return;
                 }
                 if (ev.decision != Decision::Keep) ++s.stats.split_links;
-                if (ev.decision == Decision::Keep && ev.visibility == 0.0f && !state_.options.keep_blocked_links) {
-                    // Carries nothing and is never reopened: not stored (they were half of a
-                    // building's cluster links, blocked by walls).
+                if (ev.decision == Decision::Keep && ev.visibility == 0.0f && !state_.options.keep_blocked_links &&
+                    ev.kernel.empty()) {
+                    // Carries nothing, is never reopened and lists no pairs: not stored (they were
+                    // half of a building's cluster links, blocked by walls).
                     ++(ev.rays > 0 ? s.stats.occluded_links : s.stats.dropped_links);
                     return;
                 }

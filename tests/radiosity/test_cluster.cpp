@@ -343,16 +343,27 @@ TEST_CASE("cluster and element links cover every ordered pair of facing, mutuall
     const auto solution = solve(scene, options, diagnostics, 2);
     REQUIRE(solution);
     const Solution& s = *solution;
-    // By default those links are not kept, and counted occluded instead; nothing else changes.
+    // By default those links are not kept, and counted occluded instead, but for those that list
+    // their member pairs (pairwise links above their faint bound, a zero kernel each: the
+    // read-out casts its own rays to those pairs); nothing else changes.
     {
         const auto lean = solve(scene, medium(), diagnostics, 2);
         REQUIRE(lean);
-        size_t blocked = 0;
-        for (const ClusterLink& link : s.cluster_links) blocked += link.visibility == 0.0f ? 1 : 0;
+        size_t blocked = 0, listed = 0;
+        for (const ClusterLink& link : s.cluster_links) {
+            blocked += link.visibility == 0.0f && link.kernel == kNoKernel ? 1 : 0;
+            listed += link.visibility == 0.0f && link.kernel != kNoKernel ? 1 : 0;
+        }
         CHECK(blocked > 0);
+        CHECK(listed > 0);
         CHECK(lean->links.size() == s.links.size());
         CHECK(lean->cluster_links.size() == s.cluster_links.size() - blocked);
-        for (const ClusterLink& link : lean->cluster_links) CHECK(link.visibility != 0.0f);
+        for (const ClusterLink& link : lean->cluster_links) {
+            CHECK((link.visibility != 0.0f || link.kernel != kNoKernel));
+            if (link.visibility == 0.0f)
+                for (uint32_t pair = 0; pair < membersOf(*lean, link.source).count * membersOf(*lean, link.receiver).count; ++pair)
+                    CHECK(pairKernelOf(*lean, link, pair) == 0.0);
+        }
         CHECK(lean->stats.rays == s.stats.rays);
         CHECK(lean->stats.candidate_links == s.stats.candidate_links);
         CHECK(lean->stats.occluded_links + lean->stats.dropped_links ==
