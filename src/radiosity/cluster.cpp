@@ -193,6 +193,10 @@ constexpr int kMemberSamples = 2;
 constexpr int kPointsPerMember = kMemberSamples * kMemberSamples;
 static_assert(kMemberSamples == 2, "averagedFormFactor reuses the members' 2 x 2 sample points");
 constexpr int kRaysPerPair = 1;
+// A pair whose source member emits (its own light or a punctual light's) casts one ray between
+// each of their 2 x 2 points and keeps the open share: one ray decided whether a lamp lit a
+// member that sees a third of it wholly or not at all.
+constexpr int kEmitterRaysPerPair = kPointsPerMember;
 constexpr int kRaysPerMember = 3;  // separable links: each member casts this many, to spread partners
 // A kept link whose error bound is below kFaintFraction of its threshold is faint: its
 // visibility is sampled with kFaintRays rays (spread over its member pairs) instead of rays
@@ -608,19 +612,25 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 for (uint32_t j = 0; j < rm.count; ++j)
                     if (pairFaces(s, ei, s.elements[s.cluster_members[rm.first + j]])) lit[lit_count++] = i * rm.count + j;
             }
-            std::array<uint8_t, kPairwiseLimit> open_pair;  // per lit pair: its ray was open
-            open_pair.fill(1);
-            // Each pair's own ray (kRaysPerPair), or for a faint link first kFaintRays of them,
-            // spread: when they agree, every pair takes their answer.
-            auto pair_open = [&](uint32_t pair) {
+            std::array<float, kPairwiseLimit> open_pair;  // per lit pair: the share of its rays open
+            open_pair.fill(1.0f);
+            // Each pair's own rays (kRaysPerPair, kEmitterRaysPerPair from an emitter), or for a
+            // faint link first kFaintRays of them, spread: when they agree, every pair takes their answer.
+            const auto rays_of = [&](uint32_t pair) {
+                const Element& source = s.elements[s.cluster_members[sm.first + pair / rm.count]];
+                return maxChannel(source.emission) > 0.0 ? kEmitterRaysPerPair : kRaysPerPair;
+            };
+            const auto pair_open = [&](uint32_t pair) {
                 const uint32_t i = pair / rm.count, j = pair % rm.count;
+                const int rays = rays_of(pair);
                 double open = 0.0;
-                for (int q = 0; q < kRaysPerPair; ++q) {
-                    const int a = int(i + j) + 2 * q, b = int(i + 2 * j + 1) + 2 * q;
+                for (int q = 0; q < rays; ++q) {
+                    // Other points at both ends for every q (3 q: a bijection of the 2 x 2).
+                    const int a = int(i + j) + q, b = int(i + 2 * j + 1) + 3 * q;
                     open += s.rays->transmittance(src_point(i, a), rcv_point(j, b));
                 }
-                ev.rays += kRaysPerPair;
-                return open / kRaysPerPair;
+                ev.rays += rays;
+                return open / rays;
             };
             bool resolved = visible;
             if (!resolved && faint && lit_count > kFaintRays) {
@@ -634,12 +644,16 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 resolved = open == kFaintRays;
             }
             if (!resolved)
-                for (size_t t = 0; t < lit_count; ++t) open_pair[t] = pair_open(lit[t]) > 0.0 ? 1 : 0;
+                for (size_t t = 0; t < lit_count; ++t) {
+                    // One ray: open or not (through glass too); more: the share they find open.
+                    const double open = pair_open(lit[t]);
+                    open_pair[t] = rays_of(lit[t]) == kRaysPerPair ? (open > 0.0 ? 1.0f : 0.0f) : static_cast<float>(open);
+                }
             bool any = false;
             for (size_t t = 0; t < lit_count; ++t) {
-                if (!open_pair[t]) continue;
+                if (!(open_pair[t] > 0.0f)) continue;
                 const uint32_t i = lit[t] / rm.count, j = lit[t] % rm.count;
-                const float k = static_cast<float>(
+                const float k = open_pair[t] * static_cast<float>(
                     pairKernel(s, s.elements[s.cluster_members[sm.first + i]], s.elements[s.cluster_members[rm.first + j]],
                                &rcv_point(j, 0)));
                 ev.kernel[lit[t]] = k;
