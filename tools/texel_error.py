@@ -5,8 +5,8 @@
                                  [--json]
 
 TEXEL.probes is what tools/texel_probes wrote for a bake: one probe at the sample point of each
-chosen texel, its comment holding the lightmap's value there (H = pi x the atlas value, W/m^2),
-its atlas texel, edge or inside, its brightness decile and its mesh. REFERENCE.csv is
+chosen texel, its comment holding the lightmap's value there (H = pi x its bilinear lookup at the
+point, W/m^2), its atlas texel, edge or inside, its brightness decile and its mesh. REFERENCE.csv is
 `reference_mc SCENE TEXEL.probes -o REFERENCE.csv` (x..nz, r, g, b, se_r, se_g, se_b), or any
 probes.csv of the same probe file (no se columns: no noise figure). Rows are matched by order
 and their positions checked. With --bake, the values scored are that probes.csv's instead of the
