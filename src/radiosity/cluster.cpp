@@ -32,10 +32,11 @@
 //   Transfer: orientation-aware at both ends, facing-away members get nothing, never above
 //     the oracle's bound. Links of at most kPairwiseLimit member pairs store a kernel per
 //     pair: the exact point-to-polygon form factor from the receiver's centroid (2 x 2 points
-//     when near), times that pair's own ray. Larger ones are separable, the product form of
-//     A_i cos_i cos_j / (pi d^2) about the two centroids calibrated on sampled pairs, and kept
-//     only when every sampled ray between their facing members is open (or every one
-//     blocked): a mixed large link is split, so visibility is never averaged over a wall.
+//     when near), times that pair's own ray (from an emitting member, the open share of four).
+//     Larger ones are separable, the product form of A_i cos_i cos_j / (pi d^2) about the two
+//     centroids calibrated on sampled pairs, and kept only when every sampled ray between
+//     their facing members is open (or every one blocked): a mixed large link is split, so
+//     visibility is never averaged over a wall.
 //   Visibility: shafts between the nodes' boxes (a root end: its polygon), classified with
 //     the inherited candidate list (the root ends' own parts excluded, and for a flat
 //     cluster the parts in its plane); the occlusion test (with `--visibility exact`) kills a link,
