@@ -12,6 +12,7 @@
 #include <string>
 
 #include "radbake.h"
+#include "radiosity/cluster_nodes.h"
 #include "radiosity/elements.h"
 #include "radiosity/form_factor.h"
 #include "readout/gather.h"
@@ -156,13 +157,8 @@ int main(int argc, char** argv) {
                             el.radiosity.x);
                 // The cluster links that carry this root's light to the point's root.
                 const auto holds = [&](uint32_t node, uint32_t root) {
-                    if (!(node & kClusterNode)) return node == root;
-                    const Cluster& c = s.clusters[node & ~kClusterNode];
-                    const uint32_t at = s.member_position[root];
-                    return at >= c.first_member && at < c.first_member + c.member_count;
-                };
-                const auto size = [&](uint32_t node) {
-                    return node & kClusterNode ? s.clusters[node & ~kClusterNode].member_count : 1u;
+                    const NodeMembers m = membersOf(s, node);
+                    return s.member_position[root] - m.first < m.count;
                 };
                 for (const Link& link : s.links)
                     if (s.elements[link.receiver].root == s.elements[leaf].root && s.elements[link.source].root == r)
@@ -173,7 +169,7 @@ int main(int argc, char** argv) {
                 for (const ClusterLink& cl : s.cluster_links)
                     if (holds(cl.receiver, s.elements[leaf].root) && holds(cl.source, r))
                         std::printf("      cluster link: %u receiver roots <- %u source roots, visibility %.3f, %s\n",
-                                    size(cl.receiver), size(cl.source), cl.visibility,
+                                    membersOf(s, cl.receiver).count, membersOf(s, cl.source).count, cl.visibility,
                                     cl.kernel == kNoKernel ? "separable" : "pairwise kernel");
             }
         }

@@ -621,9 +621,8 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
                 const Element& source = s.elements[s.cluster_members[sm.first + pair / rm.count]];
                 return maxChannel(source.emission) > 0.0 ? kEmitterRaysPerPair : kRaysPerPair;
             };
-            const auto pair_open = [&](uint32_t pair) {
+            const auto pair_open = [&](uint32_t pair, int rays) {
                 const uint32_t i = pair / rm.count, j = pair % rm.count;
-                const int rays = rays_of(pair);
                 double open = 0.0;
                 for (int q = 0; q < rays; ++q) {
                     // Other points at both ends for every q (3 q: a bijection of the 2 x 2).
@@ -636,7 +635,10 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             bool resolved = visible;
             if (!resolved && faint && lit_count > kFaintRays) {
                 size_t open = 0;
-                for (size_t t = 0; t < kFaintRays; ++t) open += pair_open(lit[t * lit_count / kFaintRays]) == 1.0 ? 1 : 0;
+                for (size_t t = 0; t < kFaintRays; ++t) {
+                    const uint32_t pair = lit[t * lit_count / kFaintRays];
+                    open += pair_open(pair, rays_of(pair)) == 1.0 ? 1 : 0;
+                }
                 if (open == 0) {
                     ev.kernel.clear();
                     ev.visibility = 0.0f;
@@ -647,8 +649,9 @@ std::vector<PendingLink> ClusterRefiner::refine(std::vector<PendingClusterLink> 
             if (!resolved)
                 for (size_t t = 0; t < lit_count; ++t) {
                     // One ray: open or not (through glass too); more: the share they find open.
-                    const double open = pair_open(lit[t]);
-                    open_pair[t] = rays_of(lit[t]) == kRaysPerPair ? (open > 0.0 ? 1.0f : 0.0f) : static_cast<float>(open);
+                    const int rays = rays_of(lit[t]);
+                    const double open = pair_open(lit[t], rays);
+                    open_pair[t] = rays == kRaysPerPair ? (open > 0.0 ? 1.0f : 0.0f) : static_cast<float>(open);
                 }
             bool any = false;
             for (size_t t = 0; t < lit_count; ++t) {
